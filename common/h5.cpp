@@ -1,0 +1,333 @@
+#include "common/h5.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+
+#include "common/error.hpp"
+
+namespace talus::h5 {
+namespace {
+
+// HDF5 prints its own error stack by default; Talus reports errors itself.
+struct SilenceHdf5 {
+  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+const SilenceHdf5 silence_hdf5;
+
+[[noreturn]] void fail(const File& file, const std::string& item, const std::string& message) {
+  throw Error(located(file.path(), item, message));
+}
+
+hid_t check(hid_t id, const File& file, const std::string& item, const char* what) {
+  if (id < 0) fail(file, item, what);
+  return id;
+}
+
+std::string root_relative(const std::string& path) { return path.empty() ? "/" : path; }
+
+Handle create_dataset(const File& file, const std::string& path, hid_t type, const Dims& dims) {
+  if (exists(file, path)) H5Ldelete(file.id(), path.c_str(), H5P_DEFAULT);
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id(), 1);
+  hid_t id = H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), H5P_DEFAULT, H5P_DEFAULT);
+  return Handle(check(id, file, path, "cannot create dataset"));
+}
+
+template <class T>
+void write_numbers(const File& file, const std::string& path, const std::vector<T>& data, const Dims& dims,
+                   hid_t type) {
+  const hsize_t count = std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
+  if (count != data.size()) fail(file, path, "internal error: data size does not match its shape");
+  Handle dataset = create_dataset(file, path, type, dims);
+  if (count > 0 && H5Dwrite(dataset.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+    fail(file, path, "cannot write dataset");
+}
+
+template <class T>
+std::vector<T> read_numbers(const File& file, const std::string& path, Dims* dims, hid_t type) {
+  if (!exists(file, path)) fail(file, path, "missing dataset");
+  Dims local = shape(file, path);
+  const hsize_t count = std::accumulate(local.begin(), local.end(), hsize_t{1}, std::multiplies<>());
+  std::vector<T> data(count);
+  Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
+  if (count > 0 && H5Dread(dataset.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+    fail(file, path, "cannot read dataset (truncated or of the wrong type)");
+  if (dims) *dims = local;
+  return data;
+}
+
+Handle open_object(const File& file, const std::string& path) {
+  const std::string where = root_relative(path);
+  hid_t id = H5Oopen(file.id(), where.c_str(), H5P_DEFAULT);
+  return Handle(check(id, file, where, "missing object"));
+}
+
+void write_attribute(const File& file, const std::string& path, const std::string& name, hid_t type,
+                     const Dims& dims, const void* value) {
+  Handle object = open_object(file, path);
+  if (H5Aexists(object.id(), name.c_str()) > 0) H5Adelete(object.id(), name.c_str());
+  Handle space(dims.empty() ? H5Screate(H5S_SCALAR)
+                            : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
+  Handle attribute(H5Acreate2(object.id(), name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT));
+  if (!attribute.valid() || H5Awrite(attribute.id(), type, value) < 0)
+    fail(file, root_relative(path) + "@" + name, "cannot write attribute");
+}
+
+Handle open_attribute(const File& file, const std::string& path, const std::string& name) {
+  Handle object = open_object(file, path);
+  if (H5Aexists(object.id(), name.c_str()) <= 0) fail(file, root_relative(path) + "@" + name, "missing attribute");
+  return Handle(H5Aopen(object.id(), name.c_str(), H5P_DEFAULT));
+}
+
+hssize_t attribute_size(const Handle& attribute) {
+  Handle space(H5Aget_space(attribute.id()));
+  return H5Sget_simple_extent_npoints(space.id());
+}
+
+}  // namespace
+
+Handle& Handle::operator=(Handle&& other) noexcept {
+  if (this != &other) {
+    reset();
+    id_ = other.id_;
+    other.id_ = -1;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ < 0) return;
+  switch (H5Iget_type(id_)) {
+    case H5I_FILE: H5Fclose(id_); break;
+    case H5I_GROUP: H5Gclose(id_); break;
+    case H5I_DATASET: H5Dclose(id_); break;
+    case H5I_DATASPACE: H5Sclose(id_); break;
+    case H5I_DATATYPE: H5Tclose(id_); break;
+    case H5I_ATTR: H5Aclose(id_); break;
+    case H5I_GENPROP_LST: H5Pclose(id_); break;
+    default: H5Oclose(id_); break;
+  }
+  id_ = -1;
+}
+
+File File::create(const std::string& path) {
+  File file;
+  file.path_ = path;
+  file.handle_ = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  if (!file.handle_.valid()) throw Error(located(path, "", "cannot create HDF5 file (is the folder writable?)"));
+  return file;
+}
+
+File File::open_read(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw Error(located(path, "", "no such file"));
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw Error(located(path, "", "not an HDF5 file (or truncated)"));
+  File file;
+  file.path_ = path;
+  file.handle_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  if (!file.handle_.valid()) throw Error(located(path, "", "cannot open HDF5 file (truncated or damaged?)"));
+  return file;
+}
+
+File File::open_write(const std::string& path) {
+  File file;
+  file.path_ = path;
+  file.handle_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+  if (!file.handle_.valid()) throw Error(located(path, "", "cannot open HDF5 file for writing"));
+  return file;
+}
+
+void File::flush() const { H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL); }
+
+bool exists(const File& file, const std::string& path) {
+  // Check each prefix: H5Lexists fails on a path whose parent group is missing.
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t slash = path.find('/', start);
+    const std::string prefix = path.substr(0, slash);
+    if (!prefix.empty() && H5Lexists(file.id(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (slash == std::string::npos) return true;
+    start = slash + 1;
+  }
+}
+
+Dims shape(const File& file, const std::string& path) {
+  Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "missing dataset"));
+  Handle space(H5Dget_space(dataset.id()));
+  const int rank = H5Sget_simple_extent_ndims(space.id());
+  Dims dims(std::max(rank, 0));
+  if (rank > 0) H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
+  return dims;
+}
+
+void write(const File& file, const std::string& path, const std::vector<double>& data, const Dims& dims) {
+  write_numbers(file, path, data, dims, H5T_NATIVE_DOUBLE);
+}
+
+void write(const File& file, const std::string& path, const std::vector<int32_t>& data, const Dims& dims) {
+  write_numbers(file, path, data, dims, H5T_NATIVE_INT32);
+}
+
+void write(const File& file, const std::string& path, const std::vector<std::string>& data) {
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5T_CSET_UTF8);
+  Handle dataset = create_dataset(file, path, type.id(), {data.size()});
+  std::vector<const char*> pointers;
+  for (const auto& s : data) pointers.push_back(s.c_str());
+  if (!data.empty() && H5Dwrite(dataset.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0)
+    fail(file, path, "cannot write strings");
+}
+
+std::vector<double> read_doubles(const File& file, const std::string& path, Dims* dims) {
+  return read_numbers<double>(file, path, dims, H5T_NATIVE_DOUBLE);
+}
+
+std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* dims) {
+  return read_numbers<int32_t>(file, path, dims, H5T_NATIVE_INT32);
+}
+
+std::vector<std::string> read_strings(const File& file, const std::string& path) {
+  if (!exists(file, path)) fail(file, path, "missing dataset");
+  Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
+  Handle file_type(H5Dget_type(dataset.id()));
+  if (H5Tget_class(file_type.id()) != H5T_STRING) fail(file, path, "expected strings");
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id(), H5T_VARIABLE);
+  const Dims dims = shape(file, path);
+  const hsize_t count = dims.empty() ? 1 : dims[0];
+  std::vector<char*> pointers(count, nullptr);
+  if (count > 0 && H5Dread(dataset.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0)
+    fail(file, path, "cannot read strings");
+  std::vector<std::string> out;
+  for (char* p : pointers) out.emplace_back(p ? p : "");
+  Handle space(H5Dget_space(dataset.id()));
+  if (count > 0) H5Dvlen_reclaim(type.id(), space.id(), H5P_DEFAULT, pointers.data());
+  return out;
+}
+
+std::vector<std::string> list(const File& file, const std::string& group_path) {
+  std::vector<std::string> names;
+  const std::string where = root_relative(group_path);
+  if (where != "/" && !exists(file, group_path)) return names;
+  Handle group(check(H5Gopen2(file.id(), where.c_str(), H5P_DEFAULT), file, where, "missing group"));
+  H5G_info_t info;
+  H5Gget_info(group.id(), &info);
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t size =
+        H5Lget_name_by_idx(group.id(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    std::string name(static_cast<std::size_t>(size), '\0');
+    H5Lget_name_by_idx(group.id(), ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), size + 1, H5P_DEFAULT);
+    names.push_back(name);
+  }
+  return names;
+}
+
+void create_group(const File& file, const std::string& path) {
+  if (exists(file, path)) return;
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id(), 1);
+  Handle group(H5Gcreate2(file.id(), path.c_str(), lcpl.id(), H5P_DEFAULT, H5P_DEFAULT));
+  check(group.id(), file, path, "cannot create group");
+}
+
+void set_attribute(const File& file, const std::string& path, const std::string& name, double value) {
+  write_attribute(file, path, name, H5T_NATIVE_DOUBLE, {}, &value);
+}
+
+void set_attribute(const File& file, const std::string& path, const std::string& name, int64_t value) {
+  write_attribute(file, path, name, H5T_NATIVE_INT64, {}, &value);
+}
+
+void set_attribute(const File& file, const std::string& path, const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5T_CSET_UTF8);
+  const char* pointer = value.c_str();
+  write_attribute(file, path, name, type.id(), {}, &pointer);
+}
+
+void set_attribute(const File& file, const std::string& path, const std::string& name,
+                   const std::vector<double>& value) {
+  write_attribute(file, path, name, H5T_NATIVE_DOUBLE, {value.size()}, value.data());
+}
+
+bool has_attribute(const File& file, const std::string& path, const std::string& name) {
+  const std::string where = root_relative(path);
+  if (where != "/" && !exists(file, path)) return false;
+  return H5Aexists_by_name(file.id(), where.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+double get_double(const File& file, const std::string& path, const std::string& name) {
+  Handle attribute = open_attribute(file, path, name);
+  double value = 0;
+  if (attribute_size(attribute) != 1 || H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, &value) < 0)
+    fail(file, root_relative(path) + "@" + name, "expected one number");
+  return value;
+}
+
+int64_t get_int(const File& file, const std::string& path, const std::string& name) {
+  Handle attribute = open_attribute(file, path, name);
+  int64_t value = 0;
+  if (attribute_size(attribute) != 1 || H5Aread(attribute.id(), H5T_NATIVE_INT64, &value) < 0)
+    fail(file, root_relative(path) + "@" + name, "expected one integer");
+  return value;
+}
+
+std::string get_string(const File& file, const std::string& path, const std::string& name) {
+  Handle attribute = open_attribute(file, path, name);
+  Handle file_type(H5Aget_type(attribute.id()));
+  if (H5Tget_class(file_type.id()) != H5T_STRING) fail(file, root_relative(path) + "@" + name, "expected a string");
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id(), H5T_VARIABLE);
+  char* pointer = nullptr;
+  if (H5Aread(attribute.id(), type.id(), &pointer) < 0)
+    fail(file, root_relative(path) + "@" + name, "cannot read string");
+  std::string value = pointer ? pointer : "";
+  H5free_memory(pointer);
+  return value;
+}
+
+std::vector<double> get_doubles(const File& file, const std::string& path, const std::string& name) {
+  Handle attribute = open_attribute(file, path, name);
+  std::vector<double> value(static_cast<std::size_t>(attribute_size(attribute)));
+  if (!value.empty() && H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, value.data()) < 0)
+    fail(file, root_relative(path) + "@" + name, "expected numbers");
+  return value;
+}
+
+Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type)
+    : record_(record), type_(type), where_(file.path() + ": " + path) {
+  Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{1};
+  for (hsize_t d : record) {
+    dims.push_back(d);
+    max_dims.push_back(d);
+    chunk.push_back(std::max<hsize_t>(d, 1));
+  }
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()));
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+  H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data());
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id(), 1);
+  dataset_ = Handle(H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT));
+  if (!dataset_.valid()) throw Error(where_ + ": cannot create appendable dataset");
+}
+
+void Appendable::append(const void* record) {
+  Dims dims{count_ + 1}, start{count_}, count{1};
+  for (hsize_t d : record_) {
+    dims.push_back(d);
+    start.push_back(0);
+    count.push_back(d);
+  }
+  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
+  Handle file_space(H5Dget_space(dataset_.id()));
+  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
+  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
+  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, record) < 0)
+    throw Error(where_ + ": cannot write record");
+  ++count_;
+}
+
+}  // namespace talus::h5

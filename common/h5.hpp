@@ -1,0 +1,95 @@
+// A small RAII layer over the HDF5 C API: files, groups, contiguous datasets of doubles, ints
+// and strings, scalar and vector attributes, and appendable (chunked) datasets for frames.
+// One dataset per field, row-major, no compound types. Errors throw talus::Error naming the
+// file and the dataset.
+#pragma once
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace talus::h5 {
+
+using Dims = std::vector<hsize_t>;
+
+// Owns one HDF5 identifier and closes it with the right function.
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  Handle(Handle&& other) noexcept : id_(other.id_) { other.id_ = -1; }
+  Handle& operator=(Handle&& other) noexcept;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+  hid_t id() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  void reset();
+
+ private:
+  hid_t id_ = -1;
+};
+
+class File {
+ public:
+  static File create(const std::string& path);     // truncates an existing file
+  static File open_read(const std::string& path);  // error if missing or not HDF5
+  static File open_write(const std::string& path);
+  hid_t id() const { return handle_.id(); }
+  const std::string& path() const { return path_; }
+  void flush() const;
+  void close() { handle_.reset(); }
+
+ private:
+  Handle handle_;
+  std::string path_;
+};
+
+// Datasets are addressed by a path relative to the file root ("mesh/nodes"); intermediate
+// groups are created on write.
+bool exists(const File& file, const std::string& path);
+Dims shape(const File& file, const std::string& path);
+
+void write(const File& file, const std::string& path, const std::vector<double>& data, const Dims& dims);
+void write(const File& file, const std::string& path, const std::vector<int32_t>& data, const Dims& dims);
+void write(const File& file, const std::string& path, const std::vector<std::string>& data);
+
+std::vector<double> read_doubles(const File& file, const std::string& path, Dims* dims = nullptr);
+std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* dims = nullptr);
+std::vector<std::string> read_strings(const File& file, const std::string& path);
+
+// Names of the members of a group, in creation-independent (alphabetical) order.
+std::vector<std::string> list(const File& file, const std::string& group_path);
+void create_group(const File& file, const std::string& path);
+
+// Attributes on the object at `path` ("" or "/" for the root).
+void set_attribute(const File& file, const std::string& path, const std::string& name, double value);
+void set_attribute(const File& file, const std::string& path, const std::string& name, int64_t value);
+void set_attribute(const File& file, const std::string& path, const std::string& name, const std::string& value);
+void set_attribute(const File& file, const std::string& path, const std::string& name, const std::vector<double>& value);
+bool has_attribute(const File& file, const std::string& path, const std::string& name);
+double get_double(const File& file, const std::string& path, const std::string& name);
+int64_t get_int(const File& file, const std::string& path, const std::string& name);
+std::string get_string(const File& file, const std::string& path, const std::string& name);
+std::vector<double> get_doubles(const File& file, const std::string& path, const std::string& name);
+
+// A dataset that grows along its first axis, one record of shape `record` at a time,
+// e.g. frames of [N,2] positions. Each append extends and writes; flush the file to make
+// the records durable.
+class Appendable {
+ public:
+  Appendable() = default;
+  Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE);
+  void append(const void* record);
+  hsize_t size() const { return count_; }
+
+ private:
+  Handle dataset_;
+  Dims record_;
+  hid_t type_ = H5T_NATIVE_DOUBLE;
+  hsize_t count_ = 0;
+  std::string where_;
+};
+
+}  // namespace talus::h5

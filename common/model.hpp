@@ -1,0 +1,69 @@
+// The model: what `talus mesh` writes (model.h5) and `talus solve` reads. A background mesh
+// of linear triangles, named node sets, per-node boundary constraints, particles, bodies,
+// materials and run settings. The file layout is documented in docs/model-format.md.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/scene.hpp"
+
+namespace talus {
+
+inline constexpr int kModelFormatVersion = 1;
+
+struct BodyInfo {
+  std::string name;
+  int material = 0;  // index into Model::materials
+  bool fixed = false;
+  // Boundary loops of the body in the initial configuration (outer loops and holes; a point
+  // is inside when it is inside an odd number of loops). Closed: last vertex != first.
+  std::vector<std::vector<Eigen::Vector2d>> loops;
+};
+
+struct Model {
+  std::string scene_name;
+
+  // Background mesh. Triangles are counter-clockwise; neighbours[e][k] is the element
+  // across the edge opposite local vertex k, or -1 on the domain boundary.
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<std::array<int32_t, 3>> triangles;
+  std::vector<std::array<int32_t, 3>> neighbours;
+
+  // Nodes of each physical curve of the .geo, by name.
+  std::map<std::string, std::vector<int32_t>> node_sets;
+
+  // Boundary conditions resolved per node: a fixed node has zero velocity; a roller node has
+  // zero velocity along its unit normal. A node in two rollers of different normals is fixed.
+  std::vector<int32_t> fixed_nodes;
+  std::vector<int32_t> roller_nodes;
+  std::vector<Eigen::Vector2d> roller_normals;
+
+  // Particles (struct of arrays, all of length N).
+  std::vector<Eigen::Vector2d> position;  // m
+  std::vector<Eigen::Vector2d> velocity;  // m/s
+  std::vector<double> volume;             // m^3 per unit thickness (m^2)
+  std::vector<double> mass;               // kg per unit thickness
+  std::vector<Eigen::Vector4d> stress;    // Pa, (xx, yy, zz, xy), tension positive
+  std::vector<int32_t> body;              // index into bodies
+  std::vector<int32_t> element;           // containing triangle
+
+  std::vector<BodyInfo> bodies;
+  std::vector<Material> materials;
+  RunSettings run;
+  ContactSettings contact;
+  PostSettings post;
+
+  std::size_t particle_count() const { return position.size(); }
+};
+
+// Writes to PATH.tmp and renames when complete, so no half-written model is ever left.
+void write_model(const std::string& path, const Model& model);
+// Checks the format tag and version, the presence and shapes of every dataset, and that the
+// indices are in range; throws talus::Error naming the file and the item otherwise.
+Model read_model(const std::string& path);
+
+}  // namespace talus

@@ -1,0 +1,121 @@
+// A scene: the TOML file that gives the physics of a `.geo` geometry. Parsed once, at the
+// edge, into typed structs; every value is checked for type, range and finiteness, unknown
+// keys are rejected with the nearest valid key. Units are SI; angles are in degrees.
+// The format is documented in docs/scenes.md.
+#pragma once
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus {
+
+enum class MaterialModel { LinearElastic, MohrCoulomb };
+
+struct Material {
+  std::string name;
+  MaterialModel model = MaterialModel::LinearElastic;
+  double density = 0;         // kg/m^3
+  double youngs_modulus = 0;  // Pa
+  double poisson_ratio = 0;   // -
+  // Mohr-Coulomb only.
+  double friction_angle = 0;    // deg
+  double cohesion = 0;          // Pa
+  double dilation_angle = 0;    // deg
+  double tensile_strength = -1; // Pa; < 0: no tension cut-off (the cone's own apex limits tension)
+};
+
+// Geostatic initial stress for horizontally layered ground: sigma_yy = -rho g (surface - y),
+// sigma_xx = sigma_zz = k0 sigma_yy (compression negative).
+struct InitialStress {
+  double k0 = 0;
+  std::optional<double> surface;  // m; default: the highest point of the body
+};
+
+struct Body {
+  std::string name;   // key of [bodies.NAME]
+  std::string group;  // physical group in the .geo (default: the body's name)
+  std::string material;
+  int particles_per_cell = 4;  // one of 1, 3, 4, 6, 10 (fixed barycentric rules)
+  bool fixed = false;          // particles never move (a support, such as an inclined surface)
+  Eigen::Vector2d initial_velocity{0, 0};  // m/s
+  std::optional<InitialStress> initial_stress;
+};
+
+enum class BoundaryType { Fixed, Roller };
+
+struct Boundary {
+  std::string name;   // key of [boundaries.NAME]
+  std::string group;  // physical curve in the .geo (default: the boundary's name)
+  BoundaryType type = BoundaryType::Fixed;
+  // Roller: velocity along this unit normal is zero. Default: the curve's own normal
+  // (one per node, averaged over the node's boundary segments).
+  std::optional<Eigen::Vector2d> normal;
+};
+
+struct ContactPair {
+  std::string body_a, body_b;
+  double friction = 0;
+};
+
+struct ContactSettings {
+  double friction = 0;             // Coulomb coefficient for every pair not listed below
+  std::vector<ContactPair> pairs;  // per-pair coefficients
+};
+
+struct MeshSettings {
+  std::optional<double> size;    // m; characteristic element size, overrides the .geo
+  std::string domain = "domain"; // physical surface meshed as the background grid
+};
+
+struct RunSettings {
+  double end_time = 1;          // s
+  double cfl = 0.5;             // alpha in dt = alpha h_min / (c_d + max|v_p|), in (0, 1]
+  double output_interval = 0.1; // s between frames
+  Eigen::Vector2d gravity{0, -9.81};  // m/s^2
+  double damping = 0;           // local (Cundall) damping coefficient in [0, 1)
+  bool evs = false;             // enhanced volumetric strain (Detournay and Dzik 2006)
+  int history_interval = 10;    // steps between energy-history records
+  // Stop before end_time once kinetic energy has stayed below rest_ratio x its peak for
+  // rest_window seconds (after the peak). rest_ratio = 0 disables it.
+  double rest_ratio = 0;
+  double rest_window = 0.5;     // s
+  long max_steps = 0;           // 0: no limit
+};
+
+struct PostSettings {
+  // Any of: "runout", "failure_surface", "bishop" (slopes); "spring_mass", "box_incline"
+  // (validation scenes against their analytical solutions).
+  std::vector<std::string> metrics;
+  std::string body;                   // the body analysed (default: the first)
+  double sliding_threshold = 0.05;    // fraction of the slope height: moved more = sliding mass
+  double spring_amplitude = 1e-3;     // m, y(t) = A (1 - cos(omega t))
+  double spring_omega = 100;          // rad/s
+  double incline_angle = 30;          // deg, box_incline: x = 0.5 g (sin a - mu cos a) t^2
+};
+
+struct Scene {
+  std::string name;      // [scene] name, default: the TOML file's stem
+  std::string path;      // the TOML file as given
+  std::string geometry;  // the .geo, resolved against the TOML file's folder
+  MeshSettings mesh;
+  RunSettings run;
+  ContactSettings contact;
+  PostSettings post;
+  std::vector<Material> materials;
+  std::vector<Body> bodies;
+  std::vector<Boundary> boundaries;
+  std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
+
+  int material_index(const std::string& name) const;  // -1 if absent
+  int body_index(const std::string& name) const;      // -1 if absent
+};
+
+// Reads and checks a scene file. `overrides` are "dotted.key=value" strings from --set,
+// value in TOML syntax (a bare word is taken as a string). Throws talus::Error.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Coulomb friction for a pair of bodies (per-pair value, else the scene default).
+double pair_friction(const ContactSettings& contact, const std::string& a, const std::string& b);
+
+}  // namespace talus

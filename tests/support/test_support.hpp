@@ -1,0 +1,40 @@
+// Shared helpers for the test suite: scratch folders, running the talus binary, and small
+// models generated in code (no pasted tables).
+#pragma once
+#include <filesystem>
+#include <string>
+
+#include "common/model.hpp"
+
+namespace talus::testing {
+
+// A fresh, empty folder under the build's temporary area, removed when the object dies.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& tag);
+  ~ScratchDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct CommandResult {
+  int status = -1;     // exit status, or 128 + signal
+  std::string output;  // stdout and stderr together
+};
+
+// Runs `build/bin/talus ARGS` through the shell, capturing its output.
+CommandResult run_talus(const std::string& args);
+CommandResult run_shell(const std::string& command);
+
+// Absolute path of a file in the source tree, e.g. source_path("geometries/slope.toml").
+std::string source_path(const std::string& relative);
+
+// A structured background mesh of the rectangle [x0, x0 + nx h] x [y0, y0 + ny h], each
+// square cut into two counter-clockwise triangles, with neighbours filled in and node sets
+// "bottom", "top", "left", "right". No particles, bodies or materials.
+Model rectangle_mesh(double x0, double y0, int nx, int ny, double h);
+
+}  // namespace talus::testing
