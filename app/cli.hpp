@@ -1,0 +1,24 @@
+// Command-line parsing for the talus executable: one positional input, repeated --set,
+// and a few flags. Kept apart from main so that the subcommands read top-down.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace talus::cli {
+
+struct Arguments {
+  std::string command;
+  std::vector<std::string> positional;
+  std::vector<std::string> overrides;  // --set KEY=VALUE
+  std::optional<std::string> out;      // --out DIR
+  bool quiet = false;                  // --quiet
+  bool help = false;                   // --help / -h
+  int threads = 0;                     // --threads N (0: all cores)
+  std::vector<std::string> flags;      // other --name[=value] options, for subcommands
+};
+
+// Throws talus::Error on a malformed command line.
+Arguments parse(int argc, char** argv);
+
+}  // namespace talus::cli

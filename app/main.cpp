@@ -1,0 +1,101 @@
+// talus: the one executable of the pipeline. Each subcommand is one stage (mesh, solve, post)
+// or their chain (run); see `talus --help`.
+#include <omp.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "app/cli.hpp"
+#include "common/error.hpp"
+#include "common/model.hpp"
+#include "common/scene.hpp"
+#include "preproc/preproc.hpp"
+
+namespace fs = std::filesystem;
+using namespace talus;
+
+namespace {
+
+constexpr const char* kUsage = R"(talus: slope failure and landslide runout with the Material Point Method
+
+Usage:
+  talus mesh  SCENE.toml [--set KEY=VALUE]... [--out DIR]
+        Mesh the scene's .geo with gmsh, seed particles, write DIR/model.h5.
+  talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
+        The pipeline on a scene (default geometries/slope.toml).
+
+Options:
+  --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
+                    --set run.end_time=2.0  --set contact.friction=0.4
+  --out DIR         output folder (default out/<scene name>/)
+  --quiet, -q       no progress output
+  --threads N       OpenMP threads for the solver (default: all cores)
+  --help, -h        this text
+
+Exit status: 0 on success, 1 on bad input or a failed run.
+)";
+
+std::string output_folder(const cli::Arguments& args, const Scene& scene) {
+  const fs::path folder = args.out ? fs::path(*args.out) : fs::path("out") / scene.name;
+  fs::create_directories(folder);
+  return folder.string();
+}
+
+std::string require_input(const cli::Arguments& args, const char* what) {
+  if (args.positional.empty()) throw Error(std::string("missing ") + what + " (see talus --help)");
+  if (args.positional.size() > 1) throw Error("unexpected argument '" + args.positional[1] + "' (see talus --help)");
+  return args.positional.front();
+}
+
+// Stage 1: scene -> model.h5. Returns the model's path.
+std::string mesh_stage(const Scene& scene, const std::string& folder, bool quiet) {
+  preproc::MeshReport report;
+  const Model model = preproc::build_model(scene, &report);
+  const std::string path = (fs::path(folder) / "model.h5").string();
+  write_model(path, model);
+  if (!quiet) {
+    preproc::print_report(report, std::cout);
+    std::cout << "wrote " << path << "\n";
+  }
+  return path;
+}
+
+int run_command(const cli::Arguments& args) {
+  if (args.help || args.command.empty() || args.command == "help") {
+    std::cout << kUsage;
+    return args.command.empty() && !args.help ? 1 : 0;
+  }
+  if (args.command == "--version" || args.command == "version") {
+    std::cout << "talus " << TALUS_VERSION << "\n";
+    return 0;
+  }
+  if (args.command == "mesh") {
+    const Scene scene = load_scene(require_input(args, "scene file"), args.overrides);
+    mesh_stage(scene, output_folder(args, scene), args.quiet);
+    return 0;
+  }
+  if (args.command == "run") {
+    const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
+    const Scene scene = load_scene(scene_path, args.overrides);
+    mesh_stage(scene, output_folder(args, scene), args.quiet);
+    return 0;
+  }
+  throw Error("unknown command '" + args.command + "' (expected mesh or run; see talus --help)");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const cli::Arguments args = cli::parse(argc, argv);
+    if (args.threads > 0) omp_set_num_threads(args.threads);
+    return run_command(args);
+  } catch (const Error& e) {
+    std::cerr << "talus: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "talus: internal error: " << e.what() << "\n";
+    return 2;
+  }
+}

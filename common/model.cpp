@@ -1,0 +1,333 @@
+#include "common/model.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "common/model_io.hpp"
+
+namespace talus {
+namespace {
+
+template <class Vec>
+std::vector<double> flatten(const std::vector<Vec>& rows) {
+  std::vector<double> flat;
+  flat.reserve(rows.size() * Vec::RowsAtCompileTime);
+  for (const auto& row : rows)
+    for (int k = 0; k < Vec::RowsAtCompileTime; ++k) flat.push_back(row[k]);
+  return flat;
+}
+
+template <class Vec>
+std::vector<Vec> unflatten(const std::vector<double>& flat, const h5::Dims& dims, const h5::File& file,
+                           const std::string& path, std::size_t rows) {
+  constexpr int width = Vec::RowsAtCompileTime;
+  if (dims.size() != 2 || dims[0] != rows || dims[1] != static_cast<hsize_t>(width))
+    throw Error(located(file.path(), path,
+                        "expected shape [" + std::to_string(rows) + "," + std::to_string(width) + "]"));
+  std::vector<Vec> out(rows);
+  for (std::size_t i = 0; i < rows; ++i)
+    for (int k = 0; k < width; ++k) out[i][k] = flat[i * width + k];
+  return out;
+}
+
+std::vector<int32_t> flatten(const std::vector<std::array<int32_t, 3>>& rows) {
+  std::vector<int32_t> flat;
+  flat.reserve(rows.size() * 3);
+  for (const auto& row : rows) flat.insert(flat.end(), row.begin(), row.end());
+  return flat;
+}
+
+const char* model_name(MaterialModel model) {
+  return model == MaterialModel::MohrCoulomb ? "mohr_coulomb" : "linear_elastic";
+}
+
+void check_count(const h5::File& file, const std::string& path, const h5::Dims& dims, std::size_t rows) {
+  if (dims.empty() || dims[0] != rows)
+    throw Error(located(file.path(), path, "expected " + std::to_string(rows) + " rows"));
+}
+
+void check_finite(const h5::File& file, const std::string& path, const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw Error(located(file.path(), path, "non-finite value at flat index " + std::to_string(i)));
+}
+
+}  // namespace
+
+void write_format_tag(const h5::File& file, const std::string& kind, int version) {
+  h5::set_attribute(file, "/", "format", std::string(kind));
+  h5::set_attribute(file, "/", "format_version", static_cast<int64_t>(version));
+  h5::set_attribute(file, "/", "talus_version", std::string(TALUS_VERSION));
+}
+
+void check_format_tag(const h5::File& file, const std::string& kind, int version) {
+  if (!h5::has_attribute(file, "/", "format") || h5::get_string(file, "/", "format") != kind)
+    throw Error(located(file.path(), "", "not a Talus " + kind + " file (no format=" + kind + " attribute)"));
+  const int64_t found = h5::get_int(file, "/", "format_version");
+  if (found != version)
+    throw Error(located(file.path(), "format_version",
+                        "file has version " + std::to_string(found) + ", this talus reads version " +
+                            std::to_string(version) + " (re-run the stage that made it)"));
+}
+
+void write_metadata(const h5::File& file, const Model& model) {
+  h5::set_attribute(file, "/", "scene", model.scene_name);
+
+  std::vector<std::string> body_names;
+  for (const auto& body : model.bodies) body_names.push_back(body.name);
+  h5::write(file, "bodies/names", body_names);
+  for (const auto& body : model.bodies) {
+    const std::string group = "bodies/" + body.name;
+    h5::create_group(file, group);
+    h5::set_attribute(file, group, "material", static_cast<int64_t>(body.material));
+    h5::set_attribute(file, group, "fixed", static_cast<int64_t>(body.fixed));
+    h5::set_attribute(file, group, "loops", static_cast<int64_t>(body.loops.size()));
+    for (std::size_t k = 0; k < body.loops.size(); ++k)
+      h5::write(file, group + "/loop_" + std::to_string(k), flatten(body.loops[k]), {body.loops[k].size(), 2});
+  }
+
+  std::vector<std::string> material_names;
+  for (const auto& m : model.materials) material_names.push_back(m.name);
+  h5::write(file, "materials/names", material_names);
+  for (const auto& m : model.materials) {
+    const std::string group = "materials/" + m.name;
+    h5::create_group(file, group);
+    h5::set_attribute(file, group, "model", std::string(model_name(m.model)));
+    h5::set_attribute(file, group, "density", m.density);
+    h5::set_attribute(file, group, "youngs_modulus", m.youngs_modulus);
+    h5::set_attribute(file, group, "poisson_ratio", m.poisson_ratio);
+    h5::set_attribute(file, group, "friction_angle", m.friction_angle);
+    h5::set_attribute(file, group, "cohesion", m.cohesion);
+    h5::set_attribute(file, group, "dilation_angle", m.dilation_angle);
+    h5::set_attribute(file, group, "tensile_strength", m.tensile_strength);
+  }
+
+  const RunSettings& run = model.run;
+  h5::create_group(file, "settings/run");
+  h5::set_attribute(file, "settings/run", "end_time", run.end_time);
+  h5::set_attribute(file, "settings/run", "cfl", run.cfl);
+  h5::set_attribute(file, "settings/run", "output_interval", run.output_interval);
+  h5::set_attribute(file, "settings/run", "gravity", std::vector<double>{run.gravity.x(), run.gravity.y()});
+  h5::set_attribute(file, "settings/run", "damping", run.damping);
+  h5::set_attribute(file, "settings/run", "evs", static_cast<int64_t>(run.evs));
+  h5::set_attribute(file, "settings/run", "history_interval", static_cast<int64_t>(run.history_interval));
+  h5::set_attribute(file, "settings/run", "rest_ratio", run.rest_ratio);
+  h5::set_attribute(file, "settings/run", "rest_window", run.rest_window);
+  h5::set_attribute(file, "settings/run", "max_steps", static_cast<int64_t>(run.max_steps));
+
+  h5::create_group(file, "settings/contact");
+  h5::set_attribute(file, "settings/contact", "friction", model.contact.friction);
+  std::vector<std::string> pair_names;
+  std::vector<double> pair_friction;
+  for (const auto& pair : model.contact.pairs) {
+    pair_names.push_back(pair.body_a);
+    pair_names.push_back(pair.body_b);
+    pair_friction.push_back(pair.friction);
+  }
+  h5::write(file, "settings/contact/pair_bodies", pair_names);
+  h5::write(file, "settings/contact/pair_friction", pair_friction, {pair_friction.size()});
+
+  const PostSettings& post = model.post;
+  h5::create_group(file, "settings/post");
+  h5::write(file, "settings/post/metrics", post.metrics);
+  h5::set_attribute(file, "settings/post", "body", post.body);
+  h5::set_attribute(file, "settings/post", "sliding_threshold", post.sliding_threshold);
+  h5::set_attribute(file, "settings/post", "spring_amplitude", post.spring_amplitude);
+  h5::set_attribute(file, "settings/post", "spring_omega", post.spring_omega);
+  h5::set_attribute(file, "settings/post", "incline_angle", post.incline_angle);
+}
+
+void read_metadata(const h5::File& file, Model& model) {
+  model.scene_name = h5::get_string(file, "/", "scene");
+  model.bodies.clear();
+  for (const auto& name : h5::read_strings(file, "bodies/names")) {
+    const std::string group = "bodies/" + name;
+    BodyInfo body;
+    body.name = name;
+    body.material = static_cast<int>(h5::get_int(file, group, "material"));
+    body.fixed = h5::get_int(file, group, "fixed") != 0;
+    const int64_t loops = h5::get_int(file, group, "loops");
+    for (int64_t k = 0; k < loops; ++k) {
+      const std::string path = group + "/loop_" + std::to_string(k);
+      h5::Dims dims;
+      const auto flat = h5::read_doubles(file, path, &dims);
+      check_finite(file, path, flat);
+      body.loops.push_back(unflatten<Eigen::Vector2d>(flat, dims, file, path, dims.empty() ? 0 : dims[0]));
+    }
+    model.bodies.push_back(body);
+  }
+
+  model.materials.clear();
+  for (const auto& name : h5::read_strings(file, "materials/names")) {
+    const std::string group = "materials/" + name;
+    Material m;
+    m.name = name;
+    const std::string kind = h5::get_string(file, group, "model");
+    if (kind == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
+    else if (kind == "linear_elastic") m.model = MaterialModel::LinearElastic;
+    else throw Error(located(file.path(), group + "@model", "unknown material model '" + kind + "'"));
+    m.density = h5::get_double(file, group, "density");
+    m.youngs_modulus = h5::get_double(file, group, "youngs_modulus");
+    m.poisson_ratio = h5::get_double(file, group, "poisson_ratio");
+    m.friction_angle = h5::get_double(file, group, "friction_angle");
+    m.cohesion = h5::get_double(file, group, "cohesion");
+    m.dilation_angle = h5::get_double(file, group, "dilation_angle");
+    m.tensile_strength = h5::get_double(file, group, "tensile_strength");
+    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5))
+      throw Error(located(file.path(), group, "density, youngs_modulus or poisson_ratio out of range"));
+    model.materials.push_back(m);
+  }
+  for (const auto& body : model.bodies)
+    if (body.material < 0 || body.material >= static_cast<int>(model.materials.size()))
+      throw Error(located(file.path(), "bodies/" + body.name + "@material", "material index out of range"));
+
+  RunSettings& run = model.run;
+  run.end_time = h5::get_double(file, "settings/run", "end_time");
+  run.cfl = h5::get_double(file, "settings/run", "cfl");
+  run.output_interval = h5::get_double(file, "settings/run", "output_interval");
+  const auto gravity = h5::get_doubles(file, "settings/run", "gravity");
+  if (gravity.size() != 2) throw Error(located(file.path(), "settings/run@gravity", "expected two numbers"));
+  run.gravity = {gravity[0], gravity[1]};
+  run.damping = h5::get_double(file, "settings/run", "damping");
+  run.evs = h5::get_int(file, "settings/run", "evs") != 0;
+  run.history_interval = static_cast<int>(h5::get_int(file, "settings/run", "history_interval"));
+  run.rest_ratio = h5::get_double(file, "settings/run", "rest_ratio");
+  run.rest_window = h5::get_double(file, "settings/run", "rest_window");
+  run.max_steps = h5::get_int(file, "settings/run", "max_steps");
+  if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
+      !std::isfinite(run.gravity.norm()) || run.history_interval < 1)
+    throw Error(located(file.path(), "settings/run", "run settings out of range"));
+
+  model.contact.friction = h5::get_double(file, "settings/contact", "friction");
+  const auto pair_names = h5::read_strings(file, "settings/contact/pair_bodies");
+  const auto pair_friction = h5::read_doubles(file, "settings/contact/pair_friction");
+  if (pair_names.size() != 2 * pair_friction.size())
+    throw Error(located(file.path(), "settings/contact", "pair_bodies and pair_friction disagree"));
+  model.contact.pairs.clear();
+  for (std::size_t i = 0; i < pair_friction.size(); ++i)
+    model.contact.pairs.push_back({pair_names[2 * i], pair_names[2 * i + 1], pair_friction[i]});
+
+  PostSettings& post = model.post;
+  post.metrics = h5::read_strings(file, "settings/post/metrics");
+  post.body = h5::get_string(file, "settings/post", "body");
+  post.sliding_threshold = h5::get_double(file, "settings/post", "sliding_threshold");
+  post.spring_amplitude = h5::get_double(file, "settings/post", "spring_amplitude");
+  post.spring_omega = h5::get_double(file, "settings/post", "spring_omega");
+  post.incline_angle = h5::get_double(file, "settings/post", "incline_angle");
+}
+
+void write_model(const std::string& path, const Model& model) {
+  const std::string temporary = path + ".tmp";
+  try {
+    h5::File file = h5::File::create(temporary);
+    write_format_tag(file, "talus-model", kModelFormatVersion);
+    write_metadata(file, model);
+
+    h5::write(file, "mesh/nodes", flatten(model.nodes), {model.nodes.size(), 2});
+    h5::write(file, "mesh/triangles", flatten(model.triangles), {model.triangles.size(), 3});
+    h5::write(file, "mesh/neighbours", flatten(model.neighbours), {model.neighbours.size(), 3});
+    h5::create_group(file, "mesh/node_sets");
+    for (const auto& [name, nodes] : model.node_sets) h5::write(file, "mesh/node_sets/" + name, nodes, {nodes.size()});
+
+    h5::write(file, "boundary_conditions/fixed_nodes", model.fixed_nodes, {model.fixed_nodes.size()});
+    h5::write(file, "boundary_conditions/roller_nodes", model.roller_nodes, {model.roller_nodes.size()});
+    h5::write(file, "boundary_conditions/roller_normals", flatten(model.roller_normals),
+              {model.roller_normals.size(), 2});
+
+    const std::size_t n = model.particle_count();
+    h5::write(file, "particles/position", flatten(model.position), {n, 2});
+    h5::write(file, "particles/velocity", flatten(model.velocity), {n, 2});
+    h5::write(file, "particles/volume", model.volume, {n});
+    h5::write(file, "particles/mass", model.mass, {n});
+    h5::write(file, "particles/stress", flatten(model.stress), {n, 4});
+    h5::write(file, "particles/body", model.body, {n});
+    h5::write(file, "particles/element", model.element, {n});
+    h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
+    file.close();
+    std::filesystem::rename(temporary, path);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
+}
+
+Model read_model(const std::string& path) {
+  h5::File file = h5::File::open_read(path);
+  check_format_tag(file, "talus-model", kModelFormatVersion);
+  Model model;
+  read_metadata(file, model);
+
+  h5::Dims dims;
+  auto nodes = h5::read_doubles(file, "mesh/nodes", &dims);
+  check_finite(file, "mesh/nodes", nodes);
+  model.nodes = unflatten<Eigen::Vector2d>(nodes, dims, file, "mesh/nodes", dims.empty() ? 0 : dims[0]);
+  const int32_t node_count = static_cast<int32_t>(model.nodes.size());
+
+  auto read_triples = [&](const std::string& where, int32_t low, int32_t high) {
+    h5::Dims d;
+    const auto flat = h5::read_ints(file, where, &d);
+    if (d.size() != 2 || d[1] != 3) throw Error(located(path, where, "expected shape [E,3]"));
+    std::vector<std::array<int32_t, 3>> out(d[0]);
+    for (std::size_t e = 0; e < d[0]; ++e)
+      for (int k = 0; k < 3; ++k) {
+        const int32_t v = flat[3 * e + k];
+        if (v < low || v >= high) throw Error(located(path, where, "index out of range in row " + std::to_string(e)));
+        out[e][k] = v;
+      }
+    return out;
+  };
+  model.triangles = read_triples("mesh/triangles", 0, node_count);
+  model.neighbours = read_triples("mesh/neighbours", -1, static_cast<int32_t>(model.triangles.size()));
+  if (model.neighbours.size() != model.triangles.size())
+    throw Error(located(path, "mesh/neighbours", "expected one row per triangle"));
+
+  for (const auto& name : h5::list(file, "mesh/node_sets")) model.node_sets[name] = h5::read_ints(file, "mesh/node_sets/" + name);
+
+  auto read_node_list = [&](const std::string& where) {
+    auto list = h5::read_ints(file, where);
+    for (int32_t v : list)
+      if (v < 0 || v >= node_count) throw Error(located(path, where, "node index out of range"));
+    return list;
+  };
+  model.fixed_nodes = read_node_list("boundary_conditions/fixed_nodes");
+  model.roller_nodes = read_node_list("boundary_conditions/roller_nodes");
+  auto normals = h5::read_doubles(file, "boundary_conditions/roller_normals", &dims);
+  check_finite(file, "boundary_conditions/roller_normals", normals);
+  model.roller_normals = unflatten<Eigen::Vector2d>(normals, dims, file, "boundary_conditions/roller_normals",
+                                                    model.roller_nodes.size());
+
+  auto positions = h5::read_doubles(file, "particles/position", &dims);
+  const std::size_t n = dims.empty() ? 0 : dims[0];
+  check_finite(file, "particles/position", positions);
+  model.position = unflatten<Eigen::Vector2d>(positions, dims, file, "particles/position", n);
+  auto velocities = h5::read_doubles(file, "particles/velocity", &dims);
+  check_finite(file, "particles/velocity", velocities);
+  model.velocity = unflatten<Eigen::Vector2d>(velocities, dims, file, "particles/velocity", n);
+  auto stresses = h5::read_doubles(file, "particles/stress", &dims);
+  check_finite(file, "particles/stress", stresses);
+  model.stress = unflatten<Eigen::Vector4d>(stresses, dims, file, "particles/stress", n);
+  model.volume = h5::read_doubles(file, "particles/volume", &dims);
+  check_count(file, "particles/volume", dims, n);
+  model.mass = h5::read_doubles(file, "particles/mass", &dims);
+  check_count(file, "particles/mass", dims, n);
+  for (std::size_t p = 0; p < n; ++p)
+    if (!(model.volume[p] > 0) || !(model.mass[p] > 0) || !std::isfinite(model.volume[p]) || !std::isfinite(model.mass[p]))
+      throw Error(located(path, "particles/volume, particles/mass", "particle " + std::to_string(p) +
+                                                                       " has a non-positive or non-finite value"));
+  model.body = h5::read_ints(file, "particles/body", &dims);
+  check_count(file, "particles/body", dims, n);
+  model.element = h5::read_ints(file, "particles/element", &dims);
+  check_count(file, "particles/element", dims, n);
+  for (std::size_t p = 0; p < n; ++p) {
+    if (model.body[p] < 0 || model.body[p] >= static_cast<int32_t>(model.bodies.size()))
+      throw Error(located(path, "particles/body", "body index out of range for particle " + std::to_string(p)));
+    if (model.element[p] < 0 || model.element[p] >= static_cast<int32_t>(model.triangles.size()))
+      throw Error(located(path, "particles/element", "element index out of range for particle " + std::to_string(p)));
+  }
+  return model;
+}
+
+}  // namespace talus

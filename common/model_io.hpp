@@ -1,0 +1,23 @@
+// Pieces of the model file layout shared by model.h5 and results.h5: the format tag, and the
+// bodies / materials / settings groups that the solver copies into its results so that the
+// postprocessor needs only results.h5.
+#pragma once
+#include <string>
+
+#include "common/h5.hpp"
+#include "common/model.hpp"
+
+namespace talus {
+
+inline constexpr int kResultsFormatVersion = 1;
+
+void write_format_tag(const h5::File& file, const std::string& kind, int version);
+// Throws talus::Error with both versions when the file is of another version.
+void check_format_tag(const h5::File& file, const std::string& kind, int version);
+
+// Root attribute `scene`, /bodies, /materials, /settings/{run,contact,post}.
+void write_metadata(const h5::File& file, const Model& model);
+// Fills scene_name, bodies, materials, run, contact and post of `model`.
+void read_metadata(const h5::File& file, Model& model);
+
+}  // namespace talus
