@@ -297,9 +297,10 @@ std::vector<double> get_doubles(const File& file, const std::string& path, const
   return value;
 }
 
-Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type)
+Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type,
+                       hsize_t chunk_rows)
     : record_(record), type_(type), where_(file.path() + ": " + path) {
-  Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{1};
+  Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(chunk_rows, 1)};
   for (hsize_t d : record) {
     dims.push_back(d);
     max_dims.push_back(d);
@@ -314,8 +315,9 @@ Appendable::Appendable(const File& file, const std::string& path, const Dims& re
   if (!dataset_.valid()) throw Error(where_ + ": cannot create appendable dataset");
 }
 
-void Appendable::append(const void* record) {
-  Dims dims{count_ + 1}, start{count_}, count{1};
+void Appendable::append(const void* records, hsize_t rows) {
+  if (rows == 0) return;
+  Dims dims{count_ + rows}, start{count_}, count{rows};
   for (hsize_t d : record_) {
     dims.push_back(d);
     start.push_back(0);
@@ -325,9 +327,9 @@ void Appendable::append(const void* record) {
   Handle file_space(H5Dget_space(dataset_.id()));
   H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
-  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, record) < 0)
+  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
     throw Error(where_ + ": cannot write record");
-  ++count_;
+  count_ += rows;
 }
 
 }  // namespace talus::h5

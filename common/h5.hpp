@@ -80,8 +80,10 @@ std::vector<double> get_doubles(const File& file, const std::string& path, const
 class Appendable {
  public:
   Appendable() = default;
-  Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE);
-  void append(const void* record);
+  // chunk_rows: records per HDF5 chunk (1 for large records such as frames, more for small ones).
+  Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE,
+             hsize_t chunk_rows = 1);
+  void append(const void* records, hsize_t rows = 1);
   hsize_t size() const { return count_; }
 
  private:

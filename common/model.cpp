@@ -118,6 +118,7 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::set_attribute(file, "settings/run", "max_steps", static_cast<int64_t>(run.max_steps));
 
   h5::create_group(file, "settings/contact");
+  h5::set_attribute(file, "settings/contact", "enabled", static_cast<int64_t>(model.contact.enabled));
   h5::set_attribute(file, "settings/contact", "friction", model.contact.friction);
   std::vector<std::string> pair_names;
   std::vector<double> pair_friction;
@@ -200,6 +201,7 @@ void read_metadata(const h5::File& file, Model& model) {
       !std::isfinite(run.gravity.norm()) || run.history_interval < 1)
     throw Error(located(file.path(), "settings/run", "run settings out of range"));
 
+  model.contact.enabled = h5::get_int(file, "settings/contact", "enabled") != 0;
   model.contact.friction = h5::get_double(file, "settings/contact", "friction");
   const auto pair_names = h5::read_strings(file, "settings/contact/pair_bodies");
   const auto pair_friction = h5::read_doubles(file, "settings/contact/pair_friction");

@@ -362,6 +362,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
 
   TableReader contact(top.table("contact"), "contact", path, overridden);
+  scene.contact.enabled = contact.boolean("enabled", true);
   scene.contact.friction = contact.number("friction", 0.0, 0, kInf);
   if (contact.has("pairs")) {
     const toml::array* pairs = root["contact"]["pairs"].as_array();

@@ -59,6 +59,9 @@ struct ContactPair {
 };
 
 struct ContactSettings {
+  // false: bodies share one velocity field (bonded, as the spring and the mass); true: the
+  // frictional contact pass runs between bodies that meet at a node.
+  bool enabled = true;
   double friction = 0;             // Coulomb coefficient for every pair not listed below
   std::vector<ContactPair> pairs;  // per-pair coefficients
 };
