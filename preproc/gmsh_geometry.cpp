@@ -1,0 +1,172 @@
+#include "preproc/gmsh_geometry.hpp"
+
+#include <gmsh.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+#include "common/error.hpp"
+
+namespace talus::preproc {
+namespace {
+
+constexpr int kLineType = 1;      // gmsh element type: 2-node line
+constexpr int kTriangleType = 2;  // gmsh element type: 3-node triangle
+
+// gmsh is one global library state: initialize on entry, finalize on every way out.
+class GmshSession {
+ public:
+  GmshSession() {
+    // No gmshrc or gmsh-options: the same .geo meshes the same on every machine.
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::logger::start();
+  }
+  ~GmshSession() {
+    gmsh::logger::stop();
+    gmsh::finalize();
+  }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+  // The errors gmsh logged, one per line (gmsh sometimes logs an error and carries on).
+  static std::string logged_errors() {
+    std::vector<std::string> log;
+    gmsh::logger::get(log);
+    std::string errors;
+    for (const auto& line : log)
+      if (line.rfind("Error", 0) == 0) errors += (errors.empty() ? "" : "\n") + line;
+    return errors;
+  }
+};
+
+// gmsh 4.8 throws the error text as a std::string; later versions throw std::runtime_error.
+template <class Action>
+void with_gmsh_errors(const std::string& path, const std::string& doing, Action action) {
+  std::string message;
+  try {
+    action();
+  } catch (const std::string& text) {
+    message = text;
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  const std::string logged = GmshSession::logged_errors();
+  if (message.empty() && logged.empty()) return;
+  throw Error(located(path, "", "gmsh could not " + doing + ": " + (message.empty() ? logged : message)));
+}
+
+void override_sizes(double size) {
+  gmsh::vectorpair points;
+  gmsh::model::getEntities(points, 0);
+  gmsh::model::mesh::setSize(points, size);
+  // Sizes also come from fields and curvature; pinning both bounds makes `size` win everywhere.
+  gmsh::option::setNumber("Mesh.MeshSizeMin", size);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+}
+
+void copy_nodes(GeoMesh& mesh) {
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, parametric;
+  gmsh::model::mesh::getNodes(tags, xyz, parametric, -1, -1, false, false);
+  NodeTag largest = 0;
+  for (NodeTag tag : tags) largest = std::max(largest, tag);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  mesh.node_position.assign(largest + 1, Eigen::Vector2d(nan, nan));
+  for (std::size_t i = 0; i < tags.size(); ++i) mesh.node_position[tags[i]] = {xyz[3 * i], xyz[3 * i + 1]};
+}
+
+void copy_elements(GeoMesh& mesh) {
+  // getElementsByType takes non-empty output vectors as preallocated (for its multi-task
+  // mode) and then insists on their size: hand it empty ones every time.
+  std::vector<std::size_t> element_tags, node_tags;
+  gmsh::vectorpair curves, surfaces;
+  gmsh::model::getEntities(curves, 1);
+  for (const auto& [dim, tag] : curves) {
+    element_tags.clear();
+    node_tags.clear();
+    gmsh::model::mesh::getElementsByType(kLineType, element_tags, node_tags, tag);
+    auto& segments = mesh.curve_segments[tag];
+    for (std::size_t i = 0; i + 1 < node_tags.size(); i += 2) segments.push_back({node_tags[i], node_tags[i + 1]});
+  }
+  gmsh::model::getEntities(surfaces, 2);
+  for (const auto& [dim, tag] : surfaces) {
+    std::vector<int> types;
+    gmsh::model::mesh::getElementTypes(types, 2, tag);
+    for (int type : types)
+      if (type != kTriangleType) mesh.surfaces_with_other_elements.insert(tag);
+    element_tags.clear();
+    node_tags.clear();
+    gmsh::model::mesh::getElementsByType(kTriangleType, element_tags, node_tags, tag);
+    auto& triangles = mesh.surface_triangles[tag];
+    for (std::size_t i = 0; i + 2 < node_tags.size(); i += 3)
+      triangles.push_back({node_tags[i], node_tags[i + 1], node_tags[i + 2]});
+  }
+}
+
+void copy_groups(GeoMesh& mesh) {
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups);
+  for (const auto& [dim, tag] : groups) {
+    if (dim != 1 && dim != 2) continue;
+    PhysicalGroup group;
+    group.dim = dim;
+    group.tag = tag;
+    gmsh::model::getPhysicalName(dim, tag, group.name);
+    if (group.name.empty()) continue;  // a scene refers to groups by name only
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, group.entities);
+    if (dim == 2) {
+      gmsh::vectorpair surfaces, boundary;
+      for (int surface : group.entities) surfaces.emplace_back(2, surface);
+      gmsh::model::getBoundary(surfaces, boundary, /*combined=*/true, /*oriented=*/false);
+      for (const auto& [curve_dim, curve] : boundary) group.boundary_curves.push_back(std::abs(curve));
+    }
+    mesh.groups.push_back(group);
+  }
+}
+
+}  // namespace
+
+const PhysicalGroup* GeoMesh::find(const std::string& name, int dim) const {
+  for (const auto& group : groups)
+    if (group.name == name && group.dim == dim) return &group;
+  return nullptr;
+}
+
+std::string GeoMesh::group_names() const {
+  if (groups.empty()) return "(none)";
+  std::string names;
+  for (const auto& group : groups)
+    names += (names.empty() ? "" : ", ") + group.name + (group.dim == 2 ? " (surface)" : " (curve)");
+  return names;
+}
+
+GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size) {
+  namespace fs = std::filesystem;
+  // gmsh::open of a missing file logs a warning and yields an empty model: check first.
+  std::error_code error;
+  if (!fs::is_regular_file(geo_path, error)) throw Error(located(geo_path, "", "no such geometry file"));
+
+  GmshSession session;
+  // Defaults that the .geo may change (it is read after these are set).
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay
+  with_gmsh_errors(geo_path, "read the geometry", [&] { gmsh::open(geo_path); });
+  // What the solver requires, whatever the .geo says: linear triangles only.
+  gmsh::option::setNumber("Mesh.ElementOrder", 1);
+  gmsh::option::setNumber("Mesh.RecombineAll", 0);
+  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 0);
+  if (size) with_gmsh_errors(geo_path, "set the element size", [&] { override_sizes(*size); });
+  with_gmsh_errors(geo_path, "mesh the geometry", [&] { gmsh::model::mesh::generate(2); });
+
+  GeoMesh mesh;
+  mesh.path = geo_path;
+  with_gmsh_errors(geo_path, "return the mesh", [&] {
+    copy_nodes(mesh);
+    copy_elements(mesh);
+    copy_groups(mesh);
+  });
+  return mesh;
+}
+
+}  // namespace talus::preproc

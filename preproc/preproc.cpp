@@ -1,0 +1,296 @@
+// build_model, step by step:
+//   1. gmsh reads and meshes the .geo (gmsh_geometry.cpp);
+//   2. the domain's triangles become the background mesh (background_mesh.cpp);
+//   3. each body's outline is chained into loops and checked against the domain (polygon.cpp);
+//   4. particles are seeded in every triangle and kept inside their body (seeding.cpp);
+//   5. boundary curves become fixed and roller nodes (boundary_conditions.cpp);
+//   6. materials and settings are copied from the scene.
+#include "preproc/preproc.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "preproc/background_mesh.hpp"
+#include "preproc/boundary_conditions.hpp"
+#include "preproc/gmsh_geometry.hpp"
+#include "preproc/polygon.hpp"
+#include "preproc/seeding.hpp"
+
+namespace talus::preproc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+std::string point_text(const Eigen::Vector2d& p) {
+  std::ostringstream text;
+  text << "(" << p.x() << ", " << p.y() << ")";
+  return text.str();
+}
+
+[[noreturn]] void missing_group(const GeoMesh& geo, const std::string& group, const std::string& kind,
+                                const std::string& scene_item, const Scene& scene) {
+  throw Error(located(geo.path, kind + " \"" + group + "\"",
+                      "named by " + scene_item + " in " + scene.path +
+                          ", is not a physical group of this .geo; its named physical groups are: " +
+                          geo.group_names()));
+}
+
+const PhysicalGroup& domain_group(const GeoMesh& geo, const Scene& scene) {
+  const PhysicalGroup* group = geo.find(scene.mesh.domain, 2);
+  if (!group) missing_group(geo, scene.mesh.domain, "physical surface", "mesh.domain", scene);
+  return *group;
+}
+
+// Outline segments of a body: the combined boundary of a physical surface, or the curves of a
+// closed physical curve (a surface wins when the .geo has both under one name).
+std::vector<Segment> body_outline(const GeoMesh& geo, const Body& body, const Scene& scene,
+                                  const PhysicalGroup** found) {
+  const PhysicalGroup* group = geo.find(body.group, 2);
+  if (!group) group = geo.find(body.group, 1);
+  if (!group) missing_group(geo, body.group, "physical surface or closed curve", "bodies." + body.name, scene);
+  *found = group;
+  std::vector<Segment> segments;
+  for (int curve : group->dim == 2 ? group->boundary_curves : group->entities) {
+    const auto& curve_segments = geo.curve_segments.at(curve);
+    segments.insert(segments.end(), curve_segments.begin(), curve_segments.end());
+  }
+  return segments;
+}
+
+std::vector<Loop> body_loops(const GeoMesh& geo, const Body& body, const Scene& scene) {
+  const PhysicalGroup* group = nullptr;
+  const std::vector<Segment> segments = body_outline(geo, body, scene, &group);
+  std::size_t open_end = 0;
+  const auto loops = chain_loops(segments, &open_end);
+  const std::string item = std::string(group->dim == 2 ? "physical surface" : "physical curve") + " \"" +
+                           group->name + "\"";
+  if (!loops)
+    throw Error(located(geo.path, item,
+                        "the outline of body '" + body.name + "' is not closed (open end at " +
+                            point_text(geo.node_position[open_end]) + ")"));
+  if (loops->empty()) throw Error(located(geo.path, item, "body '" + body.name + "' has an empty outline"));
+  std::vector<Loop> outline;
+  for (const auto& loop : *loops) {
+    Loop points;
+    for (NodeTag tag : loop) points.push_back(geo.node_position[tag]);
+    outline.push_back(std::move(points));
+  }
+  return outline;
+}
+
+// Every vertex of the body's outline must be inside or on the background mesh (to a tolerance
+// relative to the domain's size, for outlines meshed apart from the domain).
+void check_inside_domain(const Region& body_region, const Region& domain, const Body& body, const Scene& scene) {
+  const double tolerance = 1e-6 * domain.bounds().diagonal().norm();
+  for (const auto& loop : body_region.loops())
+    for (const auto& v : loop)
+      if (!domain.covers(v) && domain.distance_to_boundary(v) > tolerance)
+        throw Error(located(scene.path, "bodies." + body.name,
+                            "lies outside the domain (physical surface \"" + scene.mesh.domain + "\" of " +
+                                scene.geometry + "): its outline point " + point_text(v) +
+                                " is not on the background mesh"));
+}
+
+// Mesh segments of a physical curve in background node ids; segments leaving the mesh are dropped.
+std::vector<std::array<int32_t, 2>> mesh_segments(const GeoMesh& geo, const PhysicalGroup& curve,
+                                                  const BackgroundMesh& mesh) {
+  std::vector<std::array<int32_t, 2>> segments;
+  for (int entity : curve.entities)
+    for (const auto& [a, b] : geo.curve_segments.at(entity)) {
+      const int32_t i = mesh.node(a), j = mesh.node(b);
+      if (i >= 0 && j >= 0) segments.push_back({i, j});
+    }
+  return segments;
+}
+
+std::vector<int32_t> node_set(const GeoMesh& geo, const PhysicalGroup& curve, const BackgroundMesh& mesh) {
+  std::set<int32_t> nodes;
+  for (int entity : curve.entities)
+    for (const auto& segment : geo.curve_segments.at(entity))
+      for (NodeTag tag : segment)
+        if (mesh.node(tag) >= 0) nodes.insert(mesh.node(tag));
+  return {nodes.begin(), nodes.end()};
+}
+
+std::vector<BoundaryCurve> boundary_curves(const GeoMesh& geo, const BackgroundMesh& mesh, const Scene& scene) {
+  std::vector<BoundaryCurve> curves;
+  for (const auto& boundary : scene.boundaries) {
+    const PhysicalGroup* group = geo.find(boundary.group, 1);
+    if (!group && geo.find(boundary.group, 2))
+      throw Error(located(geo.path, "physical surface \"" + boundary.group + "\"",
+                          "named by boundaries." + boundary.name + " in " + scene.path +
+                              ", is a surface; a boundary needs a physical curve"));
+    if (!group) missing_group(geo, boundary.group, "physical curve", "boundaries." + boundary.name, scene);
+    BoundaryCurve curve{boundary.name, boundary.type, boundary.normal, mesh_segments(geo, *group, mesh)};
+    if (curve.segments.empty())
+      throw Error(located(geo.path, "physical curve \"" + boundary.group + "\"",
+                          "named by boundaries." + boundary.name + " in " + scene.path +
+                              ", has no edge on the background mesh (is it outside the domain?)"));
+    curves.push_back(std::move(curve));
+  }
+  return curves;
+}
+
+int material_of(const Scene& scene, const Body& body) {
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    if (scene.materials[m].name == body.material) return static_cast<int>(m);
+  throw Error(located(scene.path, "bodies." + body.name + ".material", "no material named '" + body.material + "'"));
+}
+
+// Geostatic stress of horizontally layered ground, tension positive: the weight of the
+// material above, sigma_yy = -rho |g| (surface - y), and sigma_xx = sigma_zz = k0 sigma_yy.
+// Above the surface there is no overburden.
+Eigen::Vector4d geostatic_stress(const InitialStress& initial, double surface, double density, double gravity,
+                                 double y) {
+  const double sigma_yy = -density * gravity * std::max(0.0, surface - y);
+  return {initial.k0 * sigma_yy, sigma_yy, initial.k0 * sigma_yy, 0};
+}
+
+}  // namespace
+
+Model build_model(const Scene& scene, MeshReport* report) {
+  const Clock::time_point start = Clock::now();
+  if (scene.bodies.empty()) throw Error(located(scene.path, "bodies", "the scene has no bodies"));
+
+  // 1. Mesh.
+  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size);
+  const Clock::time_point meshed = Clock::now();
+
+  // 2. Background mesh.
+  const BackgroundMesh mesh = background_mesh(geo, domain_group(geo, scene));
+  Model model;
+  model.scene_name = scene.name;
+  model.nodes = mesh.nodes;
+  model.triangles = mesh.triangles;
+  model.neighbours = mesh.neighbours;
+  for (const auto& group : geo.groups)
+    if (group.dim == 1) model.node_sets[group.name] = node_set(geo, group, mesh);
+
+  std::vector<Loop> domain_loops;
+  // The edges of a triangulation without a neighbour always close into loops.
+  const std::vector<std::vector<std::size_t>> boundary_loops = chain_loops(boundary_edges(mesh)).value();
+  for (const auto& loop : boundary_loops) {
+    Loop points;
+    for (std::size_t node : loop) points.push_back(mesh.nodes[node]);
+    domain_loops.push_back(std::move(points));
+  }
+  const Region domain(std::move(domain_loops));
+
+  // 3. Bodies.
+  std::vector<Region> regions;
+  regions.reserve(scene.bodies.size());  // SeedBody points into this vector
+  std::vector<SeedBody> seed_bodies;
+  for (const auto& body : scene.bodies) {
+    BodyInfo info;
+    info.name = body.name;
+    info.material = material_of(scene, body);
+    info.fixed = body.fixed;
+    info.loops = body_loops(geo, body, scene);
+    regions.emplace_back(info.loops);
+    check_inside_domain(regions.back(), domain, body, scene);
+    seed_bodies.push_back({body.name, &regions.back(), body.particles_per_cell});
+    model.bodies.push_back(std::move(info));
+  }
+  model.materials = scene.materials;
+
+  // 4. Particles.
+  Seeds seeds = seed_particles(mesh, seed_bodies, scene.path);
+  std::vector<std::size_t> count(scene.bodies.size(), 0);
+  std::vector<double> seeded_volume(scene.bodies.size(), 0);
+  for (std::size_t p = 0; p < seeds.position.size(); ++p) {
+    ++count[seeds.body[p]];
+    seeded_volume[seeds.body[p]] += seeds.volume[p];
+  }
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    if (count[b] == 0)
+      throw Error(located(scene.path, "bodies." + scene.bodies[b].name,
+                          "no particle falls inside the body: the mesh is too coarse for it (lower mesh.size or "
+                          "the .geo's element sizes, or raise particles_per_cell)"));
+
+  const double gravity = scene.run.gravity.norm();
+  const std::size_t n = seeds.position.size();
+  model.position = std::move(seeds.position);
+  model.volume = std::move(seeds.volume);
+  model.body = std::move(seeds.body);
+  model.element = std::move(seeds.element);
+  model.velocity.resize(n);
+  model.mass.resize(n);
+  model.stress.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const Body& body = scene.bodies[model.body[p]];
+    const Material& material = model.materials[model.bodies[model.body[p]].material];
+    model.mass[p] = material.density * model.volume[p];
+    // A fixed body is a support: it never moves, whatever initial velocity it was given.
+    model.velocity[p] = body.fixed ? Eigen::Vector2d::Zero() : body.initial_velocity;
+    model.stress[p].setZero();
+    if (body.initial_stress) {
+      const double surface = body.initial_stress->surface.value_or(regions[model.body[p]].highest_y());
+      model.stress[p] =
+          geostatic_stress(*body.initial_stress, surface, material.density, gravity, model.position[p].y());
+    }
+  }
+
+  // 5. Boundary conditions.
+  const NodeConstraints constraints = resolve_constraints(mesh.nodes, boundary_curves(geo, mesh, scene));
+  model.fixed_nodes = constraints.fixed_nodes;
+  model.roller_nodes = constraints.roller_nodes;
+  model.roller_normals = constraints.roller_normals;
+
+  // 6. Settings.
+  model.run = scene.run;
+  model.contact = scene.contact;
+  model.post = scene.post;
+
+  if (report) {
+    const Clock::time_point done = Clock::now();
+    *report = MeshReport{};
+    report->scene = scene.name;
+    report->geometry = scene.geometry;
+    report->nodes = model.nodes.size();
+    report->elements = model.triangles.size();
+    report->particles = n;
+    report->fixed_nodes = model.fixed_nodes.size();
+    report->roller_nodes = model.roller_nodes.size();
+    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+      BodyReport body{scene.bodies[b].name, count[b], seeded_volume[b], regions[b].area(), 0};
+      body.relative_difference = (body.particle_volume - body.polygon_area) / body.polygon_area;
+      report->bodies.push_back(body);
+    }
+    report->gmsh_seconds = seconds_between(start, meshed);
+    report->seeding_seconds = seconds_between(meshed, done);
+    report->seconds = seconds_between(start, done);
+  }
+  return model;
+}
+
+void print_report(const MeshReport& report, std::ostream& out) {
+  const auto flags = out.flags();
+  const auto precision = out.precision();
+  out << "mesh " << report.scene << " (" << report.geometry << ")\n";
+  out << "  background mesh: " << report.nodes << " nodes, " << report.elements << " triangles\n";
+  out << "  boundary: " << report.fixed_nodes << " fixed nodes, " << report.roller_nodes << " roller nodes\n";
+  std::size_t width = 4;
+  for (const auto& body : report.bodies) width = std::max(width, body.name.size());
+  for (const auto& body : report.bodies) {
+    out << "  body " << std::left << std::setw(static_cast<int>(width)) << body.name << std::right << " "
+        << std::setw(9) << body.particles << " particles, volume " << std::setprecision(6) << body.particle_volume
+        << " m^2 vs polygon " << body.polygon_area << " m^2 (" << std::showpos << std::scientific
+        << std::setprecision(1) << 100 * body.relative_difference << std::noshowpos << " %)\n";
+    out.flags(flags);
+  }
+  out << "  particles: " << report.particles << "\n";
+  out << std::fixed << std::setprecision(3) << "  time: gmsh " << report.gmsh_seconds << " s, seeding "
+      << report.seeding_seconds << " s, total " << report.seconds << " s\n";
+  out.flags(flags);
+  out.precision(precision);
+}
+
+}  // namespace talus::preproc
