@@ -11,6 +11,7 @@
 #include "common/model.hpp"
 #include "common/scene.hpp"
 #include "preproc/preproc.hpp"
+#include "solver/solver.hpp"
 
 namespace fs = std::filesystem;
 using namespace talus;
@@ -22,8 +23,11 @@ constexpr const char* kUsage = R"(talus: slope failure and landslide runout with
 Usage:
   talus mesh  SCENE.toml [--set KEY=VALUE]... [--out DIR]
         Mesh the scene's .geo with gmsh, seed particles, write DIR/model.h5.
+  talus solve MODEL.h5 [--out DIR] [--threads N] [--quiet]
+        Run the explicit MPM time loop; write DIR/results.h5 and results.xdmf
+        (default DIR: the model's folder).
   talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
-        The pipeline on a scene (default geometries/slope.toml).
+        The pipeline on a scene (default geometries/slope.toml): mesh, then solve.
 
 Options:
   --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
@@ -61,6 +65,20 @@ std::string mesh_stage(const Scene& scene, const std::string& folder, bool quiet
   return path;
 }
 
+// Stage 2: model.h5 -> results.h5.
+void solve_stage(const std::string& model_path, const std::string& folder, const cli::Arguments& args) {
+  const Model model = read_model(model_path);
+  solver::SolveOptions options;
+  options.out_dir = folder;
+  options.progress = !args.quiet;
+  options.threads = args.threads;
+  const solver::SolveSummary summary = solver::solve(model, options, std::cout);
+  if (!args.quiet) {
+    solver::print_summary(summary, std::cout);
+    std::cout << "wrote " << (fs::path(folder) / "results.h5").string() << " and results.xdmf\n";
+  }
+}
+
 int run_command(const cli::Arguments& args) {
   if (args.help || args.command.empty() || args.command == "help") {
     std::cout << kUsage;
@@ -75,13 +93,22 @@ int run_command(const cli::Arguments& args) {
     mesh_stage(scene, output_folder(args, scene), args.quiet);
     return 0;
   }
+  if (args.command == "solve") {
+    const std::string model_path = require_input(args, "model file");
+    if (!args.overrides.empty()) throw Error("solve reads a model, not a scene: --set belongs to mesh or run");
+    const std::string folder = args.out ? *args.out : fs::path(model_path).parent_path().string();
+    fs::create_directories(folder.empty() ? "." : folder);
+    solve_stage(model_path, folder.empty() ? "." : folder, args);
+    return 0;
+  }
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     const Scene scene = load_scene(scene_path, args.overrides);
-    mesh_stage(scene, output_folder(args, scene), args.quiet);
+    const std::string folder = output_folder(args, scene);
+    solve_stage(mesh_stage(scene, folder, args.quiet), folder, args);
     return 0;
   }
-  throw Error("unknown command '" + args.command + "' (expected mesh or run; see talus --help)");
+  throw Error("unknown command '" + args.command + "' (expected mesh, solve or run; see talus --help)");
 }
 
 }  // namespace
@@ -96,6 +123,9 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "talus: internal error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::string& e) {  // the gmsh API throws its messages as strings
+    std::cerr << "talus: internal error: " << e << "\n";
     return 2;
   }
 }

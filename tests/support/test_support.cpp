@@ -74,4 +74,53 @@ Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
   return model;
 }
 
+int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
+                 double y1, bool fixed) {
+  const int body = static_cast<int>(model.bodies.size());
+  model.materials.push_back(material);
+  model.materials.back().name = name + "_material";
+  BodyInfo info;
+  info.name = name;
+  info.material = static_cast<int>(model.materials.size()) - 1;
+  info.fixed = fixed;
+  info.loops = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+  model.bodies.push_back(info);
+  // Four equal-weight interior points: the centroid and the three permutations of (1/2, 1/4, 1/4).
+  const double rule[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.25, 0.25}, {0.25, 0.5, 0.25}, {0.25, 0.25, 0.5}};
+  for (std::size_t e = 0; e < model.triangles.size(); ++e) {
+    const auto& t = model.triangles[e];
+    const Eigen::Vector2d a = model.nodes[t[0]], b = model.nodes[t[1]], c = model.nodes[t[2]];
+    const Eigen::Vector2d centroid = (a + b + c) / 3;
+    if (centroid.x() < x0 || centroid.x() > x1 || centroid.y() < y0 || centroid.y() > y1) continue;
+    const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    for (const auto& w : rule) {
+      model.position.push_back(w[0] * a + w[1] * b + w[2] * c);
+      model.velocity.push_back(Eigen::Vector2d::Zero());
+      model.volume.push_back(area / 4);
+      model.mass.push_back(material.density * area / 4);
+      model.stress.push_back(Eigen::Vector4d::Zero());
+      model.body.push_back(body);
+      model.element.push_back(static_cast<int32_t>(e));
+    }
+  }
+  return body;
+}
+
+Material elastic(double density, double youngs_modulus, double poisson_ratio) {
+  Material m;
+  m.model = MaterialModel::LinearElastic;
+  m.density = density;
+  m.youngs_modulus = youngs_modulus;
+  m.poisson_ratio = poisson_ratio;
+  return m;
+}
+
+void set_run(Model& model, double end_time, Eigen::Vector2d gravity) {
+  model.run.end_time = end_time;
+  model.run.cfl = 0.5;
+  model.run.output_interval = end_time;
+  model.run.gravity = gravity;
+  model.run.history_interval = 10;
+}
+
 }  // namespace talus::testing

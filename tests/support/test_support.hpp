@@ -37,4 +37,16 @@ std::string source_path(const std::string& relative);
 // "bottom", "top", "left", "right". No particles, bodies or materials.
 Model rectangle_mesh(double x0, double y0, int nx, int ny, double h);
 
+// Adds a body of one material filling the box [x0, x1] x [y0, y1] of the mesh: particles at
+// the four-point barycentric positions of every triangle whose centroid lies in the box,
+// each with a quarter of the triangle's area. Returns the body's index.
+int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
+                 double y1, bool fixed = false);
+
+// A linear elastic material.
+Material elastic(double density, double youngs_modulus, double poisson_ratio);
+
+// Default run settings for tests: no gravity, CFL 0.5, one frame at the end.
+void set_run(Model& model, double end_time, Eigen::Vector2d gravity = Eigen::Vector2d::Zero());
+
 }  // namespace talus::testing

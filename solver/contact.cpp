@@ -1,0 +1,88 @@
+// Frictional contact after Bardenhagen, Brackbill and Sulsky (2000), "The material-point method
+// for granular materials", CMAME 187, as summarised in the seed's appendix B and design.md.
+#include <cmath>
+
+#include "solver/simulation.hpp"
+
+namespace talus::solver {
+namespace {
+
+// Corrects the velocities `velocity(b)` of the bodies at node i against the reference
+// (centre-of-mass, or zero where a fixed body is present). `on_change(b, delta)` receives
+// each body's correction.
+template <class Velocity, class OnChange>
+void correct_node(Simulation& sim, int32_t i, Velocity velocity, OnChange on_change) {
+  const std::size_t bodies = sim.fields.size() - 1;
+  int present = 0;
+  bool rigid = false;
+  double m = 0;
+  Vec2 momentum = Vec2::Zero(), gradient_sum = Vec2::Zero();
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const Grid& grid = sim.fields[1 + b];
+    if (grid.m[i] <= 0) continue;
+    ++present;
+    rigid = rigid || sim.body_fixed[b];
+    m += grid.m[i];
+    momentum += grid.m[i] * velocity(b);
+    gradient_sum += grid.mass_gradient[i];
+  }
+  if (present < 2) return;  // not a contact node
+  const Vec2 reference = rigid ? Vec2::Zero() : Vec2(momentum / m);
+
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const Grid& grid = sim.fields[1 + b];
+    if (grid.m[i] <= 0 || sim.body_fixed[b]) continue;
+    // One consistent normal per body pair: outward from b, towards the others' mass.
+    Vec2 normal = (gradient_sum - grid.mass_gradient[i]) - grid.mass_gradient[i];
+    const double length = normal.norm();
+    if (length <= 0) continue;
+    normal /= length;
+    const Vec2 dv = velocity(b) - reference;
+    const double approach = dv.dot(normal);
+    if (approach <= 0) continue;  // separating: free
+    // Friction against the first other body present at the node (pairs are per scene).
+    double mu = 0;
+    for (std::size_t c = 0; c < bodies; ++c)
+      if (c != b && sim.fields[1 + c].m[i] > 0) {
+        mu = sim.pair_friction[b][c];
+        break;
+      }
+    const Vec2 tangential = dv - approach * normal;
+    const double slip = tangential.norm();
+    Vec2 delta;
+    if (slip <= mu * approach) delta = -dv;  // stick: move with the reference
+    else delta = -approach * normal - mu * approach * tangential / slip;  // slide, Coulomb-limited
+    on_change(b, delta);
+  }
+}
+
+}  // namespace
+
+void apply_contact(Simulation& sim, double dt) {
+  const auto& active = sim.fields[0].active;
+  const long count = static_cast<long>(active.size());
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < count; ++k) {
+    const int32_t i = active[k];
+    auto trial_velocity = [&](std::size_t b) -> Vec2 {
+      const Grid& grid = sim.fields[1 + b];
+      return grid.p[i] / grid.m[i] + dt * grid.a[i];
+    };
+    correct_node(sim, i, trial_velocity, [&](std::size_t b, const Vec2& delta) {
+      sim.fields[1 + b].a[i] += delta / dt;
+    });
+  }
+}
+
+void apply_contact_velocities(Simulation& sim) {
+  const auto& active = sim.fields[0].active;
+  const long count = static_cast<long>(active.size());
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < count; ++k) {
+    const int32_t i = active[k];
+    correct_node(sim, i, [&](std::size_t b) -> Vec2 { return sim.fields[1 + b].v[i]; },
+                 [&](std::size_t b, const Vec2& delta) { sim.fields[1 + b].v[i] += delta; });
+  }
+}
+
+}  // namespace talus::solver

@@ -1,0 +1,68 @@
+#include <cmath>
+#include <limits>
+
+#include "common/error.hpp"
+#include "solver/state.hpp"
+
+namespace talus::solver {
+
+Mesh build_mesh(const Model& model) {
+  Mesh mesh;
+  mesh.nodes = model.nodes;
+  mesh.triangles = model.triangles;
+  mesh.neighbours = model.neighbours;
+  const std::size_t count = mesh.triangles.size();
+  mesh.shape.resize(count);
+  mesh.area.resize(count);
+  mesh.h_min = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < count; ++e) {
+    const auto& t = mesh.triangles[e];
+    const Vec2 x[3] = {mesh.nodes[t[0]], mesh.nodes[t[1]], mesh.nodes[t[2]]};
+    const double twice_area = (x[1] - x[0]).x() * (x[2] - x[0]).y() - (x[1] - x[0]).y() * (x[2] - x[0]).x();
+    if (!(twice_area > 0))
+      throw Error("model: element " + std::to_string(e) + " is degenerate or clockwise (twice its area is " +
+                  std::to_string(twice_area) + ")");
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      // N_k = (a_k + b_k x + c_k y) / 2A with (k, i, j) cyclic.
+      const Vec2& xi = x[(k + 1) % 3];
+      const Vec2& xj = x[(k + 2) % 3];
+      mesh.shape[e](k, 0) = (xi.x() * xj.y() - xj.x() * xi.y()) / twice_area;
+      mesh.shape[e](k, 1) = (xi.y() - xj.y()) / twice_area;
+      mesh.shape[e](k, 2) = (xj.x() - xi.x()) / twice_area;
+      longest = std::max(longest, (xj - xi).norm());
+    }
+    mesh.area[e] = 0.5 * twice_area;
+    mesh.h_min = std::min(mesh.h_min, twice_area / longest);
+  }
+  return mesh;
+}
+
+int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x) {
+  // Barycentric weights slightly below zero still count as inside, so a particle on an edge
+  // does not bounce between its two elements.
+  constexpr double kTolerance = -1e-12;
+  int32_t e = start;
+  for (std::size_t hops = 0; hops <= mesh.element_count(); ++hops) {
+    const Vec3 w = mesh.weights(e, x);
+    int k;
+    if (w.minCoeff(&k) >= kTolerance) return e;
+    e = mesh.neighbours[e][k];
+    if (e < 0) return -1;
+  }
+  return -1;
+}
+
+Constraints build_constraints(const Model& model) {
+  Constraints c;
+  c.kind.assign(model.nodes.size(), 0);
+  c.normal.assign(model.nodes.size(), Vec2::Zero());
+  for (std::size_t k = 0; k < model.roller_nodes.size(); ++k) {
+    c.kind[model.roller_nodes[k]] = 2;
+    c.normal[model.roller_nodes[k]] = model.roller_normals[k].normalized();
+  }
+  for (int32_t i : model.fixed_nodes) c.kind[i] = 1;
+  return c;
+}
+
+}  // namespace talus::solver

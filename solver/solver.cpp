@@ -1,0 +1,165 @@
+#include "solver/solver.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solver/results.hpp"
+#include "solver/simulation.hpp"
+
+namespace talus::solver {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Keeping particles ordered by element keeps the grid accesses of neighbouring particles close
+// in memory; particles move by less than an element per step, so this need not be done often.
+constexpr long kSortInterval = 25;
+
+std::string point(const Vec2& x) {
+  std::ostringstream s;
+  s << "(" << x.x() << ", " << x.y() << ") m";
+  return s.str();
+}
+
+// The most energy the run can have without a numerical source: the initial kinetic and strain
+// energy plus everything gravity can release by bringing each particle to the lowest node.
+double energy_budget(const Simulation& sim, const Energies& initial) {
+  double lowest = std::numeric_limits<double>::infinity();
+  const Vec2 down = sim.gravity.norm() > 0 ? Vec2(sim.gravity.normalized()) : Vec2(0, -1);
+  for (const auto& x : sim.mesh.nodes) lowest = std::min(lowest, -down.dot(x));
+  double release = 0;
+  const Particles& P = sim.particles;
+  for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * sim.gravity.norm() * (-down.dot(P.x[p]) - lowest);
+  return initial.kinetic + initial.strain + release;
+}
+
+class Progress {
+ public:
+  Progress(bool enabled, double end_time) : enabled_(enabled && isatty(STDERR_FILENO)), end_time_(end_time) {}
+  void update(const Simulation& sim, double dt, Clock::time_point start) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (now - last_ < std::chrono::milliseconds(250)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const double eta = sim.time > 0 ? elapsed * (end_time_ - sim.time) / sim.time : 0;
+    std::fprintf(stderr, "\r  step %ld  t = %.4g / %.4g s  dt = %.3e s  ETA %.0f s   ", sim.steps, sim.time,
+                 end_time_, dt, eta);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void done() {
+    if (shown_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  double end_time_;
+  bool shown_ = false;
+  Clock::time_point last_{};
+};
+
+}  // namespace
+
+SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log) {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const RunSettings& run = model.run;
+  Simulation sim = make_simulation(model, omp_get_max_threads());
+  ResultsWriter writer(options.out_dir, model);
+
+  const Energies initial = energies(sim);
+  const double budget = energy_budget(sim, initial);
+  // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
+  const double budget_limit = 2 * budget + 1e-9 * std::abs(initial.potential) + 1e-12;
+  writer.record_history(sim, initial);
+  writer.write_frame(sim);
+
+  SolveSummary summary;
+  summary.particles = model.particle_count();
+  double next_output = run.output_interval;
+  double peak_kinetic = 0, peak_time = 0, rest_since = -1;
+  Progress progress(options.progress, run.end_time);
+  const auto start = Clock::now();
+  auto fail = [&](const std::string& message) {
+    progress.done();
+    writer.finish(sim.steps, std::chrono::duration<double>(Clock::now() - start).count());
+    throw Error("solve: " + message + "; " + std::to_string(writer.frames()) + " frames kept in " + writer.path());
+  };
+
+  const double end_tolerance = 1e-9 * run.end_time;
+  while (sim.time < run.end_time - end_tolerance) {
+    double dt = stable_time_step(sim, run.cfl);
+    if (!std::isfinite(dt) || dt <= 0) fail("non-finite time step at t = " + std::to_string(sim.time) + " s");
+    dt = std::min(dt, next_output - sim.time);  // land on output times exactly
+    if (!step(sim, dt)) {
+      const Particles& P = sim.particles;
+      std::ostringstream where;
+      where << " at step " << sim.steps << ", t = " << sim.time << " s";
+      if (sim.lost_particle >= 0)
+        fail("particle " + std::to_string(P.id[sim.lost_particle]) + " left the domain at " +
+             point(P.x[sim.lost_particle]) + where.str());
+      fail("numerical blow-up: particle " + std::to_string(P.id[sim.bad_particle]) + " near " +
+           point(P.x[sim.bad_particle]) + " has a non-finite or inverted state" + where.str() +
+           " (try a smaller run.cfl)");
+    }
+    if (sim.steps % kSortInterval == 0) sort_particles(sim);
+
+    const bool frame_due = sim.time >= next_output - end_tolerance;
+    if (sim.steps % run.history_interval == 0 || frame_due) {
+      const Energies energy = energies(sim);
+      if (!std::isfinite(energy.kinetic) || energy.kinetic > budget_limit) {
+        std::ostringstream message;
+        message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: kinetic energy "
+                << energy.kinetic << " J/m exceeds the " << budget
+                << " J/m that gravity and the initial state can supply (try a smaller run.cfl)";
+        fail(message.str());
+      }
+      writer.record_history(sim, energy);
+      if (energy.kinetic > peak_kinetic) peak_kinetic = energy.kinetic, peak_time = sim.time;
+      if (run.rest_ratio > 0 && peak_kinetic > 0 && sim.time > peak_time &&
+          energy.kinetic < run.rest_ratio * peak_kinetic) {
+        if (rest_since < 0) rest_since = sim.time;
+      } else {
+        rest_since = -1;
+      }
+    }
+    const bool at_rest = rest_since >= 0 && sim.time - rest_since >= run.rest_window;
+    const bool out_of_steps = run.max_steps > 0 && sim.steps >= run.max_steps;
+    if (frame_due || at_rest || out_of_steps) {
+      writer.write_frame(sim);
+      while (next_output <= sim.time + end_tolerance) next_output += run.output_interval;
+    }
+    progress.update(sim, dt, start);
+    if (at_rest || out_of_steps) {
+      summary.stopped_at_rest = at_rest;
+      break;
+    }
+  }
+  progress.done();
+  summary.loop_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  summary.steps = sim.steps;
+  summary.simulated_time = sim.time;
+  writer.finish(sim.steps, summary.loop_seconds);
+  summary.frames = writer.frames();
+  if (summary.stopped_at_rest)
+    log << "at rest at t = " << sim.time << " s (kinetic energy below " << run.rest_ratio * 100 << "% of its peak for "
+        << run.rest_window << " s)\n";
+  return summary;
+}
+
+void print_summary(const SolveSummary& s, std::ostream& out) {
+  out << "solved: " << s.steps << " steps, " << s.particles << " particles, " << s.simulated_time
+      << " s simulated, time loop " << std::fixed << std::setprecision(2) << s.loop_seconds << " s, "
+      << std::scientific << std::setprecision(3) << s.particle_updates_per_second() << " particle-updates/s, "
+      << std::defaultfloat << s.frames << " frames\n";
+}
+
+}  // namespace talus::solver

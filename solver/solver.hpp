@@ -1,0 +1,37 @@
+// `talus solve`: runs the explicit time loop on a model and writes results.h5 (+ results.xdmf
+// for ParaView). The results layout is documented in docs/results-format.md.
+#pragma once
+#include <iosfwd>
+#include <string>
+
+#include "common/model.hpp"
+
+namespace talus::solver {
+
+struct SolveOptions {
+  std::string out_dir;   // results.h5 and results.xdmf go here
+  bool progress = true;  // a progress line when stderr is a terminal
+  int threads = 0;       // 0: OpenMP's default
+};
+
+struct SolveSummary {
+  long steps = 0;
+  std::size_t particles = 0;
+  double simulated_time = 0;  // s
+  double loop_seconds = 0;    // wall time of the time loop
+  long frames = 0;
+  bool stopped_at_rest = false;
+  double particle_updates_per_second() const {
+    return loop_seconds > 0 ? static_cast<double>(particles) * steps / loop_seconds : 0;
+  }
+};
+
+// Runs the model to run.end_time (or to rest, or to max_steps). Throws talus::Error, after
+// closing results.h5 with the frames written so far, when the run blows up (non-finite state
+// or kinetic energy beyond what gravity and the initial state can supply) or a particle
+// leaves the domain; the message says when and where.
+SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log);
+
+void print_summary(const SolveSummary& summary, std::ostream& out);
+
+}  // namespace talus::solver

@@ -1,0 +1,227 @@
+// The explicit step on structured meshes made in code: shape functions, conservation in the
+// grid transfers, free fall, rigid motion, and an elastic column under gravity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "solver/simulation.hpp"
+#include "support/test_support.hpp"
+
+using namespace talus;
+using namespace talus::solver;
+using talus::testing::add_box_body;
+using talus::testing::elastic;
+using talus::testing::rectangle_mesh;
+using talus::testing::set_run;
+
+namespace {
+
+// A mesh with its nodes jittered, so that no test relies on right angles.
+Model jittered_mesh(int nx, int ny, double h, unsigned seed) {
+  Model model = rectangle_mesh(0, 0, nx, ny, h);
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> jitter(-0.2 * h, 0.2 * h);
+  for (int j = 1; j < ny; ++j)
+    for (int i = 1; i < nx; ++i) model.nodes[j * (nx + 1) + i] += Eigen::Vector2d(jitter(random), jitter(random));
+  return model;
+}
+
+double total_mass(const Grid& grid) {
+  double m = 0;
+  for (int32_t i : grid.active) m += grid.m[i];
+  return m;
+}
+
+}  // namespace
+
+TEST(ShapeFunctions, PartitionOfUnityZeroGradientSumAndLinearExactness) {
+  Model model = jittered_mesh(6, 5, 0.3, 7);
+  const Mesh mesh = build_mesh(model);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const auto linear = [](const Vec2& x) { return 1.5 - 2.0 * x.x() + 0.75 * x.y(); };
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    const auto& t = mesh.triangles[e];
+    double a = unit(random), b = unit(random) * (1 - a);
+    const Vec2 x = a * mesh.nodes[t[0]] + b * mesh.nodes[t[1]] + (1 - a - b) * mesh.nodes[t[2]];
+    const Vec3 N = mesh.weights(static_cast<int32_t>(e), x);
+    EXPECT_NEAR(N.sum(), 1.0, 1e-13);
+    EXPECT_NEAR(N[0], a, 1e-12);
+    EXPECT_NEAR(N[1], b, 1e-12);
+    Vec2 gradient_sum = Vec2::Zero(), gradient_of_linear = Vec2::Zero();
+    double interpolated = 0;
+    for (int k = 0; k < 3; ++k) {
+      gradient_sum += mesh.gradient(static_cast<int32_t>(e), k);
+      gradient_of_linear += linear(mesh.nodes[t[k]]) * mesh.gradient(static_cast<int32_t>(e), k);
+      interpolated += N[k] * linear(mesh.nodes[t[k]]);
+    }
+    EXPECT_NEAR(gradient_sum.norm(), 0.0, 1e-12);
+    EXPECT_NEAR(interpolated, linear(x), 1e-12);
+    EXPECT_NEAR(gradient_of_linear.x(), -2.0, 1e-11);
+    EXPECT_NEAR(gradient_of_linear.y(), 0.75, 1e-11);
+  }
+}
+
+TEST(ShapeFunctions, NeighbourWalkFindsTheContainingElement) {
+  Model model = jittered_mesh(8, 8, 0.25, 11);
+  const Mesh mesh = build_mesh(model);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> coordinate(0.01, 1.99);
+  for (int trial = 0; trial < 500; ++trial) {
+    const Vec2 x(coordinate(random), coordinate(random));
+    const int32_t e = locate(mesh, 0, x);
+    ASSERT_GE(e, 0);
+    EXPECT_GE(mesh.weights(e, x).minCoeff(), -1e-12);
+  }
+  EXPECT_EQ(locate(mesh, 0, Vec2(2.5, 1.0)), -1);  // outside the domain
+}
+
+TEST(GridTransfer, ParticleToGridConservesMassAndMomentum) {
+  Model model = jittered_mesh(10, 10, 0.1, 13);
+  add_box_body(model, "block", elastic(1500, 1e6, 0.3), 0.2, 0.8, 0.2, 0.7);
+  std::mt19937 random(17);
+  std::normal_distribution<double> speed(0, 1);
+  Vec2 momentum = Vec2::Zero();
+  double mass = 0;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    model.velocity[p] = Vec2(speed(random), speed(random));
+    momentum += model.mass[p] * model.velocity[p];
+    mass += model.mass[p];
+  }
+  set_run(model, 1.0);
+  Simulation sim = make_simulation(model, 2);
+  mark_active_nodes(sim);
+  particles_to_grid(sim);
+  const Grid& grid = sim.fields[0];
+  Vec2 grid_momentum = Vec2::Zero();
+  for (int32_t i : grid.active) grid_momentum += grid.p[i];
+  EXPECT_NEAR(total_mass(grid), mass, 1e-13 * mass);
+  EXPECT_NEAR((grid_momentum - momentum).norm(), 0.0, 1e-12 * mass);
+
+  // G2P with zero acceleration, then the remap (A.11): momentum is carried back unchanged.
+  update_grid_accelerations(sim, 0.0);
+  update_particle_velocities(sim, 0.0);
+  remap_grid_velocities(sim);
+  Vec2 remapped = Vec2::Zero();
+  for (int32_t i : grid.active) remapped += grid.m[i] * grid.v[i];
+  EXPECT_NEAR((remapped - momentum).norm(), 0.0, 1e-12 * mass);
+}
+
+TEST(GridTransfer, InternalForcesSumToZero) {
+  // Newton's third law on the grid: internal forces of any stress field add up to nothing.
+  Model model = jittered_mesh(8, 8, 0.125, 19);
+  add_box_body(model, "block", elastic(1000, 1e6, 0.3), 0.1, 0.9, 0.1, 0.9);
+  std::mt19937 random(23);
+  std::normal_distribution<double> stress(0, 1e4);
+  for (auto& s : model.stress) s = Vec4(stress(random), stress(random), stress(random), stress(random));
+  set_run(model, 1.0);
+  Simulation sim = make_simulation(model, 2);
+  mark_active_nodes(sim);
+  particles_to_grid(sim);
+  Vec2 total = Vec2::Zero();
+  double scale = 0;
+  for (int32_t i : sim.fields[0].active) total += sim.fields[0].f[i], scale += sim.fields[0].f[i].norm();
+  EXPECT_LT(total.norm(), 1e-12 * scale);
+}
+
+TEST(TimeStep, FreeFallFollowsTheDiscreteSolutionAndConverges) {
+  // Semi-implicit Euler: v_n = n dt g and x_n = x_0 + g dt^2 n (n + 1) / 2 = x_0 + g t (t + dt) / 2,
+  // which tends to 0.5 g t^2 as dt -> 0.
+  const Vec2 g(0, -9.81);
+  double previous_error = 0;
+  for (double dt : {1e-3, 5e-4, 2.5e-4}) {
+    Model model = jittered_mesh(10, 20, 0.1, 29);
+    add_box_body(model, "block", elastic(2000, 1e6, 0.25), 0.3, 0.7, 1.4, 1.8);
+    set_run(model, 0.2, g);
+    Simulation sim = make_simulation(model, 2);
+    const std::vector<Vec2> start = sim.particles.x;
+    const int steps = static_cast<int>(std::lround(0.2 / dt));
+    for (int n = 0; n < steps; ++n) ASSERT_TRUE(step(sim, dt));
+    const double t = steps * dt;
+    double worst_discrete = 0, worst_exact = 0, worst_stress = 0;
+    for (std::size_t p = 0; p < sim.particles.size(); ++p) {
+      const Vec2 moved = sim.particles.x[p] - start[p];
+      worst_discrete = std::max(worst_discrete, (moved - 0.5 * g * t * (t + dt)).norm());
+      worst_exact = std::max(worst_exact, (moved - 0.5 * g * t * t).norm());
+      worst_stress = std::max(worst_stress, sim.particles.sigma[p].norm());
+      EXPECT_NEAR((sim.particles.v[p] - g * t).norm(), 0.0, 1e-11);
+    }
+    EXPECT_LT(worst_discrete, 1e-12);
+    EXPECT_LT(worst_stress, 1e-6);  // a rigid motion strains nothing
+    EXPECT_NEAR(worst_exact, 0.5 * g.norm() * t * dt, 1e-12);
+    if (previous_error > 0) EXPECT_NEAR(worst_exact / previous_error, 0.5, 1e-6);  // first order in dt
+    previous_error = worst_exact;
+  }
+}
+
+TEST(TimeStep, RigidTranslationMakesNoStrainAndConservesMomentum) {
+  Model model = jittered_mesh(12, 12, 0.1, 31);
+  add_box_body(model, "block", elastic(1000, 1e7, 0.3), 0.2, 0.6, 0.3, 0.7);
+  for (auto& v : model.velocity) v = Vec2(0.8, -0.3);
+  set_run(model, 0.2);
+  Simulation sim = make_simulation(model, 2);
+  const double dt = stable_time_step(sim, 0.5);
+  for (int n = 0; n < 200; ++n) ASSERT_TRUE(step(sim, dt));
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) {
+    EXPECT_LT(sim.particles.sigma[p].norm(), 1e-6);
+    EXPECT_NEAR((sim.particles.v[p] - Vec2(0.8, -0.3)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(sim.particles.eps_p[p], 0.0, 0.0);
+  }
+}
+
+TEST(TimeStep, ElasticImpactConservesMomentumWithoutBoundaries) {
+  // Two blocks colliding in one velocity field, far from any boundary: no external force, so
+  // the total momentum stays what it was to round-off, through impact and rebound.
+  Model model = jittered_mesh(20, 10, 0.1, 37);
+  add_box_body(model, "left", elastic(1000, 1e6, 0.3), 0.3, 0.8, 0.3, 0.7);
+  add_box_body(model, "right", elastic(1000, 1e6, 0.3), 1.1, 1.6, 0.3, 0.7);
+  Vec2 momentum = Vec2::Zero();
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    model.velocity[p] = model.body[p] == 0 ? Vec2(2.0, 0.0) : Vec2(-1.0, 0.5);
+    momentum += model.mass[p] * model.velocity[p];
+  }
+  model.contact.enabled = false;
+  set_run(model, 0.3);
+  Simulation sim = make_simulation(model, 2);
+  for (int n = 0; n < 400; ++n) ASSERT_TRUE(step(sim, stable_time_step(sim, 0.4)));
+  Vec2 after = Vec2::Zero();
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) after += sim.particles.m[p] * sim.particles.v[p];
+  EXPECT_LT((after - momentum).norm(), 1e-10 * momentum.norm());
+}
+
+TEST(TimeStep, ElasticColumnUnderGravitySettlesToTheLithostaticStress) {
+  // A column of height H on a fixed base with roller sides, damped to rest. The weight above a
+  // material point gives sigma_yy = -rho g (H - Y) at its initial height Y (tension positive).
+  // Linear triangles carry one stress per element, so a single particle can differ from it by
+  // up to rho g h / 2; averaged over each layer of elements the stress must be within 2% of
+  // rho g H. Poisson's ratio 0 makes the column one-dimensional.
+  const double H = 1.0, rho = 1000, g = 10, h = 0.05;
+  const int layers = static_cast<int>(std::lround(H / h));
+  Model model = rectangle_mesh(0, 0, 4, layers + 4, h);
+  add_box_body(model, "column", elastic(rho, 1e6, 0.0), 0, 0.2, 0, H);
+  model.fixed_nodes = model.node_sets["bottom"];
+  for (const char* side : {"left", "right"})
+    for (int32_t i : model.node_sets[side]) {
+      model.roller_nodes.push_back(i);
+      model.roller_normals.push_back(Vec2(1, 0));
+    }
+  set_run(model, 1.5, Vec2(0, -g));
+  model.run.damping = 0.1;
+  Simulation sim = make_simulation(model, 2);
+  while (sim.time < model.run.end_time) ASSERT_TRUE(step(sim, stable_time_step(sim, 0.5)));
+
+  std::vector<double> error_sum(layers, 0.0);
+  std::vector<int> count(layers, 0);
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) {
+    const double Y = model.position[sim.particles.id[p]].y();
+    const int layer = std::min(layers - 1, static_cast<int>(Y / h));
+    error_sum[layer] += sim.particles.sigma[p][1] + rho * g * (H - Y);
+    ++count[layer];
+  }
+  for (int layer = 0; layer < layers; ++layer) {
+    ASSERT_GT(count[layer], 0);
+    EXPECT_LT(std::abs(error_sum[layer] / count[layer]), 0.02 * rho * g * H) << "layer " << layer;
+  }
+  EXPECT_LT(energies(sim).kinetic, 1e-6 * rho * g * H * H);
+}
