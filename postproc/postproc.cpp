@@ -1,0 +1,407 @@
+#include "postproc/postproc.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "common/error.hpp"
+#include "common/scene.hpp"
+#include "postproc/bishop.hpp"
+#include "postproc/circle_fit.hpp"
+#include "postproc/failure_surface.hpp"
+#include "postproc/output.hpp"
+#include "postproc/results.hpp"
+#include "postproc/runout.hpp"
+#include "postproc/slope_geometry.hpp"
+#include "postproc/validation.hpp"
+
+namespace fs = std::filesystem;
+
+namespace talus::postproc {
+namespace {
+
+const std::set<std::string> kMetrics = {"runout", "failure_surface", "bishop", "spring_mass", "box_incline"};
+
+bool wants(const PostSettings& post, const std::string& metric) {
+  return std::find(post.metrics.begin(), post.metrics.end(), metric) != post.metrics.end();
+}
+
+// The analysed body (post.body, default the first) and its particles.
+struct BodySelection {
+  int index = 0;
+  std::vector<std::size_t> particles;
+};
+
+BodySelection select_body(const Results& results, const std::string& file) {
+  const auto& bodies = results.metadata.bodies;
+  const std::string& wanted = results.metadata.post.body;
+  BodySelection selection;
+  if (!wanted.empty()) {
+    const auto found = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name == wanted; });
+    if (found == bodies.end()) throw Error(located(file, "settings/post@body", "no body named '" + wanted + "'"));
+    selection.index = static_cast<int>(found - bodies.begin());
+  }
+  if (bodies.empty()) throw Error(located(file, "bodies", "no bodies"));
+  for (std::size_t p = 0; p < results.particles(); ++p)
+    if (results.body[p] == selection.index) selection.particles.push_back(p);
+  if (selection.particles.empty())
+    throw Error(located(file, "particles/body", "body '" + bodies[selection.index].name + "' has no particles"));
+  return selection;
+}
+
+std::vector<Eigen::Vector2d> gather(const std::vector<Eigen::Vector2d>& all, const std::vector<std::size_t>& which,
+                                    const Mirror& mirror) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(which.size());
+  for (std::size_t p : which) out.push_back(mirror.point(all[p]));
+  return out;
+}
+
+// Centre of mass of the selected particles in one frame.
+Eigen::Vector2d centre_of_mass(const Results& results, const std::vector<std::size_t>& which, std::size_t frame) {
+  Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+  double mass = 0;
+  for (std::size_t p : which) moment += results.mass[p] * results.position[frame][p], mass += results.mass[p];
+  return moment / mass;
+}
+
+// Everything computed for one run, in the scene's own coordinates (mirrored back).
+struct Metrics {
+  std::optional<SlopeProfile> profile;  // canonical frame
+  Mirror mirror;
+  double sliding_threshold = 0, column_width = 0;
+
+  std::optional<RunoutMetrics> runout;
+  std::optional<double> time_to_rest;
+  std::vector<double> front_x, front_velocity;
+
+  bool failure_done = false;
+  double failed_area = 0;
+  Polyline failure_surface, shear_band;
+  std::optional<Circle> slip_circle;
+  double slip_circle_rms = 0;
+  std::optional<double> onset_time;
+
+  bool bishop_done = false;
+  std::optional<BishopResult> bishop;
+  SoilStrength soil;
+
+  std::optional<SpringMassCheck> spring;
+  std::optional<BoxInclineCheck> box;
+  double box_friction = 0;
+};
+
+void slope_metrics(const Results& results, const BodySelection& body, const std::string& file, Metrics& m) {
+  const PostSettings& post = results.metadata.post;
+  const BodyInfo& info = results.metadata.bodies[body.index];
+  const Polyline& loop = outer_loop(info.loops);
+  m.mirror.active = descends_to_left(loop);
+  Polyline canonical;
+  for (const auto& p : loop) canonical.push_back(m.mirror.point(p));
+  m.profile = slope_profile(canonical);
+  const SlopeProfile& profile = *m.profile;
+  if (!(profile.height > 0))
+    throw Error(located(file, "bodies/" + info.name, "the slope metrics need a slope, but the ground surface is flat"));
+  m.sliding_threshold = post.sliding_threshold * profile.height;
+
+  std::vector<double> volume;
+  for (std::size_t p : body.particles) volume.push_back(results.volume[p]);
+  const ColumnRule rule = column_rule_for(volume);
+  m.column_width = rule.width;
+  const auto x0 = gather(results.position.front(), body.particles, m.mirror);
+  const auto x1 = gather(results.position.back(), body.particles, m.mirror);
+
+  if (wants(post, "runout")) {
+    m.runout = runout_metrics(profile, x0, x1, m.sliding_threshold, rule);
+    m.time_to_rest = time_to_rest(results.history_time, results.kinetic_energy);
+    for (std::size_t f = 0; f < results.frames(); ++f) {
+      std::vector<Eigen::Vector2d> v;
+      for (std::size_t p : body.particles) {
+        const Eigen::Vector2d& velocity = results.velocity[f][p];
+        v.emplace_back(m.mirror.x(velocity.x()), velocity.y());
+      }
+      const DepositFront front =
+          deposit_front(gather(results.position[f], body.particles, m.mirror), v, profile.surface, rule);
+      m.front_x.push_back(m.mirror.x(front.found ? front.tip.x() : profile.toe.x()));
+      m.front_velocity.push_back(front.found ? front.velocity : 0.0);
+    }
+  }
+
+  if (wants(post, "failure_surface")) {
+    m.failure_done = true;
+    const auto sliding = sliding_mask(x0, x1, m.sliding_threshold);
+    m.failed_area = failed_area(sliding, volume);
+    const Polyline surface = slip_surface(x0, sliding, rule.width);
+    m.slip_circle = fit_circle(surface);
+    if (m.slip_circle) {
+      m.slip_circle_rms = circle_rms_distance(*m.slip_circle, surface);
+      m.slip_circle->centre = m.mirror.point(m.slip_circle->centre);
+    }
+    m.failure_surface = m.mirror.polyline(surface);
+    std::vector<std::vector<Eigen::Vector2d>> frames;
+    for (const auto& frame : results.position) frames.push_back(gather(frame, body.particles, m.mirror));
+    const auto onset = onset_frame(frames, x0, m.sliding_threshold);
+    if (onset) {
+      m.onset_time = results.frame_time[*onset];
+      if (!results.plastic_strain.empty()) {
+        std::vector<double> strain;
+        for (std::size_t p : body.particles) strain.push_back(results.plastic_strain[*onset][p]);
+        m.shear_band = m.mirror.polyline(shear_band(x0, strain, rule.width));
+      }
+    }
+  }
+
+  if (wants(post, "bishop")) {
+    m.bishop_done = true;
+    const Material& material = results.metadata.materials[info.material];
+    if (material.model != MaterialModel::MohrCoulomb)
+      throw Error(located(file, "materials/" + material.name,
+                          "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle)"));
+    m.soil = {material.cohesion, material.friction_angle, material.density * results.metadata.run.gravity.norm()};
+    m.bishop = bishop_search(profile, m.soil);
+    if (m.bishop) {
+      m.bishop->circle.centre = m.mirror.point(m.bishop->circle.centre);
+      const double entry = m.mirror.x(m.bishop->x_entry), exit = m.mirror.x(m.bishop->x_exit);
+      m.bishop->x_entry = std::min(entry, exit);
+      m.bishop->x_exit = std::max(entry, exit);
+    }
+  }
+}
+
+void validation_metrics(const Results& results, const BodySelection& body, Metrics& m) {
+  const PostSettings& post = results.metadata.post;
+  if (wants(post, "spring_mass")) {
+    std::vector<double> centre_y;
+    for (std::size_t f = 0; f < results.frames(); ++f) centre_y.push_back(centre_of_mass(results, body.particles, f).y());
+    m.spring = spring_mass_check(results.frame_time, centre_y, post.spring_amplitude, post.spring_omega);
+  }
+  if (wants(post, "box_incline")) {
+    const auto& bodies = results.metadata.bodies;
+    const std::string& box = bodies[body.index].name;
+    const auto other = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name != box; });
+    m.box_friction = other == bodies.end() ? results.metadata.contact.friction
+                                           : pair_friction(results.metadata.contact, box, other->name);
+    const Eigen::Vector2d start = centre_of_mass(results, body.particles, 0);
+    std::vector<Eigen::Vector2d> displacement;
+    for (std::size_t f = 0; f < results.frames(); ++f)
+      displacement.push_back(centre_of_mass(results, body.particles, f) - start);
+    m.box = box_incline_check(results.frame_time, displacement, post.incline_angle,
+                              results.metadata.run.gravity.norm(), m.box_friction);
+  }
+}
+
+void write_point(JsonWriter& json, const std::string& key, const Eigen::Vector2d& p) {
+  json.key(key).begin_array().value(p.x()).value(p.y()).end_array();
+}
+
+void write_circle(JsonWriter& json, const std::string& key, const std::optional<Circle>& circle) {
+  json.key(key);
+  if (!circle) {
+    json.null();
+    return;
+  }
+  json.begin_object()
+      .key("xc_m").value(circle->centre.x())
+      .key("yc_m").value(circle->centre.y())
+      .key("r_m").value(circle->radius)
+      .end_object();
+}
+
+std::string metrics_json(const Results& results, const BodySelection& body, const std::string& results_path,
+                         const Metrics& m) {
+  JsonWriter json;
+  json.begin_object();
+  json.key("scene").value(results.metadata.scene_name);
+  json.key("body").value(results.metadata.bodies[body.index].name);
+  json.key("results_file").value(results_path);
+  json.key("frames").value(static_cast<long>(results.frames()));
+  json.key("end_time_s").value(results.frame_time.back());
+  json.key("metrics").begin_array();
+  for (const auto& metric : results.metadata.post.metrics) json.value(metric);
+  json.end_array();
+
+  if (m.profile) {
+    json.key("slope_height_m").value(m.profile->height);
+    write_point(json, "crest_m", m.mirror.point(m.profile->crest));
+    write_point(json, "toe_m", m.mirror.point(m.profile->toe));
+    json.key("sliding_threshold_m").value(m.sliding_threshold);
+    json.key("column_width_m").value(m.column_width);
+  }
+  if (m.runout) {
+    json.key("runout_distance_m").value(m.runout->runout_distance);
+    json.key("crest_retreat_m").value(m.runout->crest_retreat);
+    json.key("travel_angle_deg").value(m.runout->travel_angle_deg);
+    json.key("deposit_found").value(m.runout->deposit_found);
+    write_point(json, "crown_m", m.mirror.point(m.runout->crown));
+    write_point(json, "deposit_tip_m", m.mirror.point(m.runout->tip));
+    json.key("time_to_rest_s").value(m.time_to_rest);
+  }
+  if (m.failure_done) {
+    json.key("failed_area_m2").value(m.failed_area);
+    json.key("onset_time_s").value(m.onset_time);
+    write_circle(json, "slip_circle", m.slip_circle);
+    json.key("slip_circle_rms_m").value(m.slip_circle ? std::optional<double>(m.slip_circle_rms) : std::nullopt);
+    json.key("failure_surface").value(m.failure_surface);
+    json.key("shear_band").value(m.shear_band);
+  }
+  if (m.bishop_done) {
+    json.key("bishop_fos").value(m.bishop ? std::optional<double>(m.bishop->factor_of_safety) : std::nullopt);
+    write_circle(json, "bishop_circle", m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
+    json.key("bishop_soil").begin_object()
+        .key("cohesion_Pa").value(m.soil.cohesion)
+        .key("friction_angle_deg").value(m.soil.friction_angle)
+        .key("unit_weight_N_m3").value(m.soil.unit_weight)
+        .end_object();
+  }
+  if (m.spring) {
+    json.key("spring_mass").begin_object()
+        .key("amplitude_m").value(results.metadata.post.spring_amplitude)
+        .key("omega_rad_s").value(results.metadata.post.spring_omega)
+        .key("max_error_over_amplitude").value(m.spring->max_error_over_amplitude)
+        .end_object();
+  }
+  if (m.box) {
+    json.key("box_incline").begin_object();
+    json.key("angle_deg").value(results.metadata.post.incline_angle);
+    json.key("friction").value(m.box_friction);
+    json.key("acceleration_m_s2").value(m.box->acceleration);
+    json.key("max_displacement_m").value(m.box->max_abs_displacement);
+    json.key("checks").begin_array();
+    for (std::size_t i = 0; i < m.box->check_times.size(); ++i)
+      json.begin_object()
+          .key("time_s").value(m.box->check_times[i])
+          .key("mpm_m").value(m.box->mpm_at_check[i])
+          .key("exact_m").value(m.box->exact_at_check[i])
+          .key("relative_error").value(m.box->relative_error[i])
+          .end_object();
+    json.end_array().end_object();
+  }
+  json.end_object();
+  return json.text();
+}
+
+std::string shell_quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string default_figures_script() {
+#ifdef TALUS_SOURCE_DIR
+  return std::string(TALUS_SOURCE_DIR) + "/postproc/figures.py";
+#else
+  return {};
+#endif
+}
+
+std::string format(std::optional<double> value, int precision, const std::string& unit) {
+  if (!value) return "n/a";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(precision) << *value << unit;
+  return out.str();
+}
+
+void print_summary(const Metrics& m, std::ostream& log) {
+  if (m.profile)
+    log << "  slope height " << format(m.profile->height, 2, " m") << ", sliding threshold "
+        << format(m.sliding_threshold, 3, " m") << "\n";
+  if (m.runout)
+    log << "  runout " << format(m.runout->runout_distance, 2, " m") << ", crest retreat "
+        << format(m.runout->crest_retreat, 2, " m") << ", travel angle " << format(m.runout->travel_angle_deg, 1, " deg")
+        << ", time to rest " << format(m.time_to_rest, 2, " s") << "\n";
+  if (m.failure_done) {
+    log << "  failed area " << format(m.failed_area, 2, " m^2") << ", slip circle ";
+    if (m.slip_circle)
+      log << "centre (" << format(m.slip_circle->centre.x(), 2, "") << ", " << format(m.slip_circle->centre.y(), 2, "")
+          << ") m, R " << format(m.slip_circle->radius, 2, " m") << "\n";
+    else
+      log << "n/a\n";
+  }
+  if (m.bishop_done) {
+    log << "  Bishop critical circle: ";
+    if (m.bishop)
+      log << "F = " << format(m.bishop->factor_of_safety, 3, "") << ", centre (" << format(m.bishop->circle.centre.x(), 2, "")
+          << ", " << format(m.bishop->circle.centre.y(), 2, "") << ") m, R " << format(m.bishop->circle.radius, 2, " m")
+          << "\n";
+    else
+      log << "no admissible circle\n";
+  }
+  if (m.spring) log << "  spring and mass: max |y - y_exact| / A = " << format(m.spring->max_error_over_amplitude, 4, "") << "\n";
+  if (m.box) {
+    log << "  box on incline (mu " << format(m.box_friction, 2, "") << "):";
+    for (std::size_t i = 0; i < m.box->check_times.size(); ++i)
+      log << " t=" << format(m.box->check_times[i], 2, "") << " s err " << format(m.box->relative_error[i], 4, "");
+    log << "\n";
+  }
+}
+
+}  // namespace
+
+int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
+             const PostOptions& options) {
+  const Results results = read_results(results_path);
+  const PostSettings& post = results.metadata.post;
+  for (const auto& metric : post.metrics)
+    if (!kMetrics.count(metric))
+      throw Error(located(results_path, "settings/post/metrics",
+                          "unknown metric '" + metric + "' (expected runout, failure_surface, bishop, spring_mass or box_incline)"));
+  const BodySelection body = select_body(results, results_path);
+
+  Metrics m;
+  if (wants(post, "runout") || wants(post, "failure_surface") || wants(post, "bishop"))
+    slope_metrics(results, body, results_path, m);
+  validation_metrics(results, body, m);
+
+  fs::create_directories(out_dir);
+  const fs::path out(out_dir);
+  write_file_atomically((out / "metrics.json").string(), metrics_json(results, body, results_path, m));
+  write_csv((out / "energy.csv").string(), {"time_s", "kinetic_J", "potential_J", "strain_J"},
+            {results.history_time, results.kinetic_energy, results.potential_energy, results.strain_energy});
+  if (m.runout)
+    write_csv((out / "front.csv").string(), {"time_s", "front_x_m", "front_velocity_m_s"},
+              {results.frame_time, m.front_x, m.front_velocity});
+  if (m.spring)
+    write_csv((out / "spring_mass.csv").string(), {"time_s", "mpm_m", "exact_m"},
+              {m.spring->time, m.spring->settlement, m.spring->exact});
+  if (m.box)
+    write_csv((out / "box_incline.csv").string(), {"time_s", "mpm_m", "exact_m"},
+              {m.box->time, m.box->along_slope, m.box->exact});
+
+  log << "talus post: " << results.metadata.scene_name << ", body '" << results.metadata.bodies[body.index].name
+      << "', " << results.frames() << " frames to t = " << format(results.frame_time.back(), 3, " s") << "\n";
+  print_summary(m, log);
+  log << "  wrote " << (out / "metrics.json").string() << " and CSV histories\n";
+
+  if (!options.figures) return 0;
+  const std::string script = options.figures_script.empty() ? default_figures_script() : options.figures_script;
+  if (script.empty() || !fs::exists(script)) {
+    log << "  figures skipped: figures.py not found" << (script.empty() ? "" : " at " + script) << "\n";
+    return 1;
+  }
+  const std::string command = shell_quoted(options.python) + " " + shell_quoted(script) + " --results " +
+                              shell_quoted(results_path) + " --out " + shell_quoted(out_dir);
+  // The script's own lines (what it wrote, or its traceback) go to the same log.
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) {
+    log << "  figures failed: cannot start `" << command << "`\n";
+    return 1;
+  }
+  std::array<char, 4096> line;
+  while (std::fgets(line.data(), line.size(), pipe)) log << "  " << line.data();
+  const int status = pclose(pipe);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    log << "  figures failed: `" << command << "` exited with status "
+        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace talus::postproc

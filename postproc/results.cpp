@@ -1,0 +1,118 @@
+#include "postproc/results.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "common/model_io.hpp"
+
+namespace talus::postproc {
+namespace {
+
+// A dataset of shape [F, N, width] (width 0: [F, N]) split into frames.
+std::vector<double> read_frames(const h5::File& file, const std::string& path, std::size_t frames,
+                                std::size_t particles, std::size_t width) {
+  h5::Dims dims;
+  std::vector<double> flat = h5::read_doubles(file, path, &dims);
+  const bool ok = width == 0 ? dims.size() == 2 : (dims.size() == 3 && dims[2] == width);
+  if (!ok || dims[0] != frames || dims[1] != particles)
+    throw Error(located(file.path(), path,
+                        "expected shape [" + std::to_string(frames) + "," + std::to_string(particles) +
+                            (width ? "," + std::to_string(width) : std::string()) + "]"));
+  for (std::size_t i = 0; i < flat.size(); ++i)
+    if (!std::isfinite(flat[i])) throw Error(located(file.path(), path, "non-finite value at flat index " + std::to_string(i)));
+  return flat;
+}
+
+std::vector<std::vector<Eigen::Vector2d>> as_points(const std::vector<double>& flat, std::size_t frames,
+                                                    std::size_t particles) {
+  std::vector<std::vector<Eigen::Vector2d>> out(frames, std::vector<Eigen::Vector2d>(particles));
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::size_t p = 0; p < particles; ++p)
+      out[f][p] = {flat[(f * particles + p) * 2], flat[(f * particles + p) * 2 + 1]};
+  return out;
+}
+
+std::vector<double> read_vector(const h5::File& file, const std::string& path, std::size_t length) {
+  h5::Dims dims;
+  std::vector<double> values = h5::read_doubles(file, path, &dims);
+  if (dims.size() != 1 || dims[0] != length)
+    throw Error(located(file.path(), path, "expected " + std::to_string(length) + " values"));
+  return values;
+}
+
+std::vector<double> flatten(const std::vector<std::vector<Eigen::Vector2d>>& frames) {
+  std::vector<double> flat;
+  for (const auto& frame : frames)
+    for (const auto& p : frame) flat.push_back(p.x()), flat.push_back(p.y());
+  return flat;
+}
+
+}  // namespace
+
+Results read_results(const std::string& path) {
+  const h5::File file = h5::File::open_read(path);
+  check_format_tag(file, "results", kResultsFormatVersion);
+  Results results;
+  read_metadata(file, results.metadata);
+
+  results.body = h5::read_ints(file, "particles/body");
+  const std::size_t n = results.body.size();
+  for (std::size_t p = 0; p < n; ++p)
+    if (results.body[p] < 0 || results.body[p] >= static_cast<int32_t>(results.metadata.bodies.size()))
+      throw Error(located(path, "particles/body", "body index out of range at particle " + std::to_string(p)));
+  results.mass = read_vector(file, "particles/mass", n);
+  results.volume = read_vector(file, "particles/volume", n);
+
+  h5::Dims time_dims;
+  results.frame_time = h5::read_doubles(file, "frames/time", &time_dims);
+  const std::size_t f = results.frame_time.size();
+  if (f == 0) throw Error(located(path, "frames/time", "no frames"));
+  results.position = as_points(read_frames(file, "frames/position", f, n, 2), f, n);
+  results.velocity = as_points(read_frames(file, "frames/velocity", f, n, 2), f, n);
+  if (h5::exists(file, "frames/plastic_strain")) {
+    const std::vector<double> flat = read_frames(file, "frames/plastic_strain", f, n, 0);
+    for (std::size_t k = 0; k < f; ++k)
+      results.plastic_strain.emplace_back(flat.begin() + k * n, flat.begin() + (k + 1) * n);
+  }
+
+  results.history_time = h5::read_doubles(file, "history/time");
+  const std::size_t h = results.history_time.size();
+  results.kinetic_energy = read_vector(file, "history/kinetic_energy", h);
+  results.potential_energy = read_vector(file, "history/potential_energy", h);
+  results.strain_energy = read_vector(file, "history/strain_energy", h);
+  return results;
+}
+
+void write_results(const std::string& path, const Results& results) {
+  const std::string temporary = path + ".tmp";
+  {
+    const h5::File file = h5::File::create(temporary);
+    write_format_tag(file, "results", kResultsFormatVersion);
+    write_metadata(file, results.metadata);
+    const hsize_t f = results.frames(), n = results.particles();
+    h5::write(file, "particles/body", results.body, {n});
+    h5::write(file, "particles/mass", results.mass, {n});
+    h5::write(file, "particles/volume", results.volume, {n});
+    h5::write(file, "frames/time", results.frame_time, {f});
+    h5::write(file, "frames/position", flatten(results.position), {f, n, 2});
+    h5::write(file, "frames/velocity", flatten(results.velocity), {f, n, 2});
+    if (!results.plastic_strain.empty()) {
+      std::vector<double> flat;
+      for (const auto& frame : results.plastic_strain) flat.insert(flat.end(), frame.begin(), frame.end());
+      h5::write(file, "frames/plastic_strain", flat, {f, n});
+    }
+    const hsize_t h = results.history_time.size();
+    h5::write(file, "history/time", results.history_time, {h});
+    h5::write(file, "history/kinetic_energy", results.kinetic_energy, {h});
+    h5::write(file, "history/potential_energy", results.potential_energy, {h});
+    h5::write(file, "history/strain_energy", results.strain_energy, {h});
+    h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) throw Error(located(path, "", "cannot replace with " + temporary + ": " + error.message()));
+}
+
+}  // namespace talus::postproc

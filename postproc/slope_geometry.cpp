@@ -1,0 +1,108 @@
+#include "postproc/slope_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.hpp"
+
+namespace talus::postproc {
+namespace {
+
+double signed_area(const Polyline& loop) {
+  double twice_area = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Eigen::Vector2d& a = loop[i];
+    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
+    twice_area += a.x() * b.y() - b.x() * a.y();
+  }
+  return 0.5 * twice_area;
+}
+
+// The upper boundary of a simple polygon, x increasing. Walking a counter-clockwise loop, the
+// top runs from the rightmost to the leftmost vertex; of several vertices on a vertical side,
+// the highest one is where the top begins or ends.
+Polyline upper_boundary(Polyline loop) {
+  if (loop.size() < 3) throw Error("postproc: a body outline has fewer than 3 vertices");
+  if (signed_area(loop) < 0) std::reverse(loop.begin(), loop.end());
+  auto rightmost = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  };
+  auto leftmost = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() > b.x() || (a.x() == b.x() && a.y() < b.y());
+  };
+  const std::size_t n = loop.size();
+  const std::size_t right = std::max_element(loop.begin(), loop.end(), rightmost) - loop.begin();
+  const std::size_t left = std::max_element(loop.begin(), loop.end(), leftmost) - loop.begin();
+  Polyline top;
+  for (std::size_t i = right;; i = (i + 1) % n) {
+    top.push_back(loop[i]);
+    if (i == left) break;
+  }
+  std::reverse(top.begin(), top.end());
+  return top;
+}
+
+}  // namespace
+
+const Polyline& outer_loop(const std::vector<Polyline>& loops) {
+  if (loops.empty()) throw Error("postproc: the analysed body has no outline loops");
+  return *std::max_element(loops.begin(), loops.end(), [](const Polyline& a, const Polyline& b) {
+    return std::abs(signed_area(a)) < std::abs(signed_area(b));
+  });
+}
+
+bool descends_to_left(const Polyline& loop) {
+  const Polyline top = upper_boundary(loop);
+  return top.front().y() < top.back().y();
+}
+
+SlopeProfile slope_profile(const Polyline& loop) {
+  SlopeProfile profile;
+  profile.surface = upper_boundary(loop);
+  const Polyline& s = profile.surface;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (!(s[i].x() > s[i - 1].x()))
+      throw Error("postproc: the ground surface of the analysed body is not a function of x near (" +
+                  std::to_string(s[i].x()) + ", " + std::to_string(s[i].y()) +
+                  "); the slope metrics need a surface without overhangs or vertical steps");
+  profile.base_y = std::min_element(loop.begin(), loop.end(), [](const auto& a, const auto& b) {
+                     return a.y() < b.y();
+                   })->y();
+
+  double top = -INFINITY, bottom = INFINITY;
+  for (const auto& p : s) top = std::max(top, p.y()), bottom = std::min(bottom, p.y());
+  const double tolerance = 1e-9 * std::max(1.0, top - bottom);
+  std::size_t crest = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s[i].y() >= top - tolerance) crest = i;
+  std::size_t toe = s.size() - 1;
+  for (std::size_t i = crest; i < s.size(); ++i)
+    if (s[i].y() <= bottom + tolerance) {
+      toe = i;
+      break;
+    }
+  profile.crest = s[crest];
+  profile.toe = s[toe];
+  profile.height = profile.crest.y() - profile.toe.y();
+  return profile;
+}
+
+double surface_height(const Polyline& surface, double x) {
+  if (x <= surface.front().x()) return surface.front().y();
+  if (x >= surface.back().x()) return surface.back().y();
+  const auto upper = std::upper_bound(surface.begin(), surface.end(), x,
+                                      [](double value, const Eigen::Vector2d& p) { return value < p.x(); });
+  const Eigen::Vector2d& b = *upper;
+  const Eigen::Vector2d& a = *(upper - 1);
+  return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+}
+
+Polyline Mirror::polyline(const Polyline& line) const {
+  if (!active) return line;
+  Polyline out;
+  out.reserve(line.size());
+  for (auto it = line.rbegin(); it != line.rend(); ++it) out.push_back(point(*it));
+  return out;
+}
+
+}  // namespace talus::postproc

@@ -1,0 +1,62 @@
+// The validation-scene comparisons: spring and mass, box on an incline.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "postproc/validation.hpp"
+
+namespace talus::postproc {
+namespace {
+
+TEST(SpringMass, ErrorOverAmplitude) {
+  const double amplitude = 1e-3, omega = 100;
+  std::vector<double> t, centre_y;
+  for (int k = 0; k <= 200; ++k) {
+    t.push_back(1e-3 * k);
+    // Exact settlement plus a 5% amplitude error at the period's quarter.
+    const double error = (k == 16) ? 0.05 * amplitude : 0.0;
+    centre_y.push_back(1.0 - amplitude * (1 - std::cos(omega * t.back())) - error);
+  }
+  const SpringMassCheck check = spring_mass_check(t, centre_y, amplitude, omega);
+  EXPECT_NEAR(check.max_error_over_amplitude, 0.05, 1e-9);
+  EXPECT_NEAR(check.exact[31], amplitude * (1 - std::cos(3.1)), 1e-15);
+}
+
+TEST(BoxIncline, ExactMotionDownEitherSide) {
+  const double angle = 30, g = 10, mu = 0.3;
+  const double a = g * (std::sin(M_PI / 6) - mu * std::cos(M_PI / 6));  // 2.402, x = 1.201 t^2
+  for (double side : {1.0, -1.0}) {
+    std::vector<double> t;
+    std::vector<Eigen::Vector2d> displacement;
+    for (int k = 0; k <= 24; ++k) {
+      t.push_back(0.05 * k);
+      const double s = 0.5 * a * t.back() * t.back();
+      displacement.emplace_back(side * s * std::cos(M_PI / 6), -s * std::sin(M_PI / 6));
+    }
+    displacement[10] *= 1.02;  // t = 0.5 s: 2% long
+    const BoxInclineCheck check = box_incline_check(t, displacement, angle, g, mu);
+    EXPECT_NEAR(check.acceleration, 2.402, 1e-3);
+    ASSERT_EQ(check.check_times.size(), 4u);
+    EXPECT_NEAR(*check.relative_error[0], 0, 1e-12);
+    EXPECT_NEAR(*check.relative_error[1], 0.02, 1e-12);
+    EXPECT_NEAR(check.mpm_at_check[3], 1.201, 1e-3);
+  }
+}
+
+TEST(BoxIncline, StaysPutWhenFrictionHolds) {
+  const std::vector<double> t = {0, 0.5, 1.0};
+  const std::vector<Eigen::Vector2d> displacement(3, Eigen::Vector2d(1e-5, 0));
+  const BoxInclineCheck check = box_incline_check(t, displacement, 30, 10, 0.6);
+  EXPECT_EQ(check.acceleration, 0);
+  EXPECT_FALSE(check.relative_error[0]);
+  EXPECT_NEAR(check.max_abs_displacement, 1e-5, 1e-15);
+  EXPECT_EQ(check.check_times.size(), 4u);  // 0.25 and 0.75 s interpolated
+}
+
+TEST(Interpolate, InsideAndOutside) {
+  EXPECT_NEAR(*interpolate({0, 1, 2}, {0, 10, 30}, 1.5), 20, 1e-12);
+  EXPECT_FALSE(interpolate({0, 1}, {0, 1}, 1.5));
+}
+
+}  // namespace
+}  // namespace talus::postproc
