@@ -142,11 +142,12 @@ std::string GeoMesh::group_names() const {
   return names;
 }
 
-GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size) {
+GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by) {
   namespace fs = std::filesystem;
   // gmsh::open of a missing file logs a warning and yields an empty model: check first.
   std::error_code error;
-  if (!fs::is_regular_file(geo_path, error)) throw Error(located(geo_path, "", "no such geometry file"));
+  if (!fs::is_regular_file(geo_path, error))
+    throw Error(located(geo_path, "", "no such geometry file" + (named_by.empty() ? "" : " (named by " + named_by + ")")));
 
   GmshSession session;
   // Defaults that the .geo may change (it is read after these are set).

@@ -43,7 +43,9 @@ struct GeoMesh {
 
 // Opens `geo_path`, overrides its element sizes with `size` when given, and generates a 2D
 // mesh of linear triangles. Throws talus::Error naming the file, with gmsh's own message when
-// gmsh cannot read or mesh it.
-GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size);
+// gmsh cannot read or mesh it. `named_by` says where the path came from, for the message
+// about a missing file.
+GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size,
+                      const std::string& named_by = "");
 
 }  // namespace talus::preproc

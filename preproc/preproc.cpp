@@ -161,7 +161,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
   if (scene.bodies.empty()) throw Error(located(scene.path, "bodies", "the scene has no bodies"));
 
   // 1. Mesh.
-  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size);
+  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path);
   const Clock::time_point meshed = Clock::now();
 
   // 2. Background mesh.
