@@ -64,11 +64,12 @@ std::vector<Eigen::Vector2d> gather(const std::vector<Eigen::Vector2d>& all, con
   return out;
 }
 
-// Centre of mass of the selected particles in one frame.
-Eigen::Vector2d centre_of_mass(const Results& results, const std::vector<std::size_t>& which, std::size_t frame) {
+// Centre of mass of the selected particles at the given positions.
+Eigen::Vector2d centre_of_mass(const Results& results, const std::vector<std::size_t>& which,
+                               const std::vector<Eigen::Vector2d>& x_p) {
   Eigen::Vector2d moment = Eigen::Vector2d::Zero();
   double mass = 0;
-  for (std::size_t p : which) moment += results.mass[p] * results.position[frame][p], mass += results.mass[p];
+  for (std::size_t p : which) moment += results.mass[p] * x_p[p], mass += results.mass[p];
   return moment / mass;
 }
 
@@ -115,7 +116,7 @@ void slope_metrics(const Results& results, const BodySelection& body, const std:
   for (std::size_t p : body.particles) volume.push_back(results.volume[p]);
   const ColumnRule rule = column_rule_for(volume);
   m.column_width = rule.width;
-  const auto x0 = gather(results.position.front(), body.particles, m.mirror);
+  const auto x0 = gather(results.initial_position, body.particles, m.mirror);
   const auto x1 = gather(results.position.back(), body.particles, m.mirror);
 
   if (wants(post, "runout")) {
@@ -179,8 +180,9 @@ void validation_metrics(const Results& results, const BodySelection& body, Metri
   const PostSettings& post = results.metadata.post;
   if (wants(post, "spring_mass")) {
     std::vector<double> centre_y;
-    for (std::size_t f = 0; f < results.frames(); ++f) centre_y.push_back(centre_of_mass(results, body.particles, f).y());
-    m.spring = spring_mass_check(results.frame_time, centre_y, post.spring_amplitude, post.spring_omega);
+    for (const auto& frame : results.position) centre_y.push_back(centre_of_mass(results, body.particles, frame).y());
+    const double initial_y = centre_of_mass(results, body.particles, results.initial_position).y();
+    m.spring = spring_mass_check(results.frame_time, centre_y, initial_y, post.spring_amplitude, post.spring_omega);
   }
   if (wants(post, "box_incline")) {
     const auto& bodies = results.metadata.bodies;
@@ -188,10 +190,9 @@ void validation_metrics(const Results& results, const BodySelection& body, Metri
     const auto other = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name != box; });
     m.box_friction = other == bodies.end() ? results.metadata.contact.friction
                                            : pair_friction(results.metadata.contact, box, other->name);
-    const Eigen::Vector2d start = centre_of_mass(results, body.particles, 0);
+    const Eigen::Vector2d start = centre_of_mass(results, body.particles, results.initial_position);
     std::vector<Eigen::Vector2d> displacement;
-    for (std::size_t f = 0; f < results.frames(); ++f)
-      displacement.push_back(centre_of_mass(results, body.particles, f) - start);
+    for (const auto& frame : results.position) displacement.push_back(centre_of_mass(results, body.particles, frame) - start);
     m.box = box_incline_check(results.frame_time, displacement, post.incline_angle,
                               results.metadata.run.gravity.norm(), m.box_friction);
   }
@@ -223,6 +224,7 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
   json.key("results_file").value(results_path);
   json.key("frames").value(static_cast<long>(results.frames()));
   json.key("end_time_s").value(results.frame_time.back());
+  json.key("run_complete").value(results.complete);
   json.key("metrics").begin_array();
   for (const auto& metric : results.metadata.post.metrics) json.value(metric);
   json.end_array();
@@ -376,6 +378,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
 
   log << "talus post: " << results.metadata.scene_name << ", body '" << results.metadata.bodies[body.index].name
       << "', " << results.frames() << " frames to t = " << format(results.frame_time.back(), 3, " s") << "\n";
+  if (!results.complete) log << "  note: the run did not complete; metrics are of its last frame\n";
   print_summary(m, log);
   log << "  wrote " << (out / "metrics.json").string() << " and CSV histories\n";
 

@@ -53,7 +53,7 @@ std::vector<double> flatten(const std::vector<std::vector<Eigen::Vector2d>>& fra
 
 Results read_results(const std::string& path) {
   const h5::File file = h5::File::open_read(path);
-  check_format_tag(file, "results", kResultsFormatVersion);
+  check_format_tag(file, "talus-results", kResultsFormatVersion);
   Results results;
   read_metadata(file, results.metadata);
 
@@ -62,6 +62,13 @@ Results read_results(const std::string& path) {
   for (std::size_t p = 0; p < n; ++p)
     if (results.body[p] < 0 || results.body[p] >= static_cast<int32_t>(results.metadata.bodies.size()))
       throw Error(located(path, "particles/body", "body index out of range at particle " + std::to_string(p)));
+  {
+    h5::Dims dims;
+    const std::vector<double> flat = h5::read_doubles(file, "particles/initial_position", &dims);
+    if (dims.size() != 2 || dims[0] != n || dims[1] != 2)
+      throw Error(located(path, "particles/initial_position", "expected shape [" + std::to_string(n) + ",2]"));
+    results.initial_position = as_points(flat, 1, n).front();
+  }
   results.mass = read_vector(file, "particles/mass", n);
   results.volume = read_vector(file, "particles/volume", n);
 
@@ -77,6 +84,7 @@ Results read_results(const std::string& path) {
       results.plastic_strain.emplace_back(flat.begin() + k * n, flat.begin() + (k + 1) * n);
   }
 
+  if (h5::has_attribute(file, "/", "complete")) results.complete = h5::get_int(file, "/", "complete") != 0;
   results.history_time = h5::read_doubles(file, "history/time");
   const std::size_t h = results.history_time.size();
   results.kinetic_energy = read_vector(file, "history/kinetic_energy", h);
@@ -89,9 +97,10 @@ void write_results(const std::string& path, const Results& results) {
   const std::string temporary = path + ".tmp";
   {
     const h5::File file = h5::File::create(temporary);
-    write_format_tag(file, "results", kResultsFormatVersion);
+    write_format_tag(file, "talus-results", kResultsFormatVersion);
     write_metadata(file, results.metadata);
     const hsize_t f = results.frames(), n = results.particles();
+    h5::write(file, "particles/initial_position", flatten({results.initial_position}), {n, 2});
     h5::write(file, "particles/body", results.body, {n});
     h5::write(file, "particles/mass", results.mass, {n});
     h5::write(file, "particles/volume", results.volume, {n});
@@ -109,6 +118,7 @@ void write_results(const std::string& path, const Results& results) {
     h5::write(file, "history/potential_energy", results.potential_energy, {h});
     h5::write(file, "history/strain_energy", results.strain_energy, {h});
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
+    h5::set_attribute(file, "/", "complete", static_cast<int64_t>(results.complete));
   }
   std::error_code error;
   std::filesystem::rename(temporary, path, error);

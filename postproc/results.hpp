@@ -19,11 +19,14 @@ struct Results {
   std::vector<std::vector<Eigen::Vector2d>> velocity;           // m/s [F][N]
   std::vector<std::vector<double>> plastic_strain;              // [F][N]; empty when not written
 
+  std::vector<Eigen::Vector2d> initial_position;  // m [N], the model's particles before step 1
   std::vector<int32_t> body;    // [N] index into metadata.bodies
   std::vector<double> mass;     // kg per m [N]
   std::vector<double> volume;   // m^2 (initial) [N]
 
   std::vector<double> history_time, kinetic_energy, potential_energy, strain_energy;  // s, J per m
+
+  bool complete = true;  // the solver's root attribute `complete`: false when the run was cut short
 
   std::size_t frames() const { return frame_time.size(); }
   std::size_t particles() const { return body.size(); }

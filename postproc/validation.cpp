@@ -6,12 +6,12 @@
 namespace talus::postproc {
 
 SpringMassCheck spring_mass_check(const std::vector<double>& time, const std::vector<double>& centre_y,
-                                  double amplitude, double omega) {
+                                  double initial_y, double amplitude, double omega) {
   SpringMassCheck check;
   check.time = time;
   double max_error = 0;
   for (std::size_t k = 0; k < time.size(); ++k) {
-    const double settlement = centre_y.front() - centre_y[k];
+    const double settlement = initial_y - centre_y[k];
     const double exact = amplitude * (1 - std::cos(omega * time[k]));
     check.settlement.push_back(settlement);
     check.exact.push_back(exact);

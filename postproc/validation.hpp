@@ -15,9 +15,9 @@ struct SpringMassCheck {
   double max_error_over_amplitude = 0;
 };
 
-// centre_y: the body's centre-of-mass height at each frame time.
+// centre_y: the body's centre-of-mass height at each frame time; initial_y: before the first step.
 SpringMassCheck spring_mass_check(const std::vector<double>& time, const std::vector<double>& centre_y,
-                                  double amplitude, double omega);
+                                  double initial_y, double amplitude, double omega);
 
 struct BoxInclineCheck {
   double acceleration = 0;          // m/s^2 along the slope: g (sin a - mu cos a), >= 0
@@ -32,7 +32,7 @@ struct BoxInclineCheck {
   double max_abs_displacement = 0;  // m
 };
 
-// displacement: the box's centre-of-mass displacement at each frame time. The downhill
+// displacement: the box's centre-of-mass displacement from its initial position at each frame time. The downhill
 // direction is (cos a, -sin a) or (-cos a, -sin a), whichever the box's final x displacement
 // points along (the first when it has not moved).
 BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::vector<Eigen::Vector2d>& displacement,

@@ -17,7 +17,7 @@ TEST(SpringMass, ErrorOverAmplitude) {
     const double error = (k == 16) ? 0.05 * amplitude : 0.0;
     centre_y.push_back(1.0 - amplitude * (1 - std::cos(omega * t.back())) - error);
   }
-  const SpringMassCheck check = spring_mass_check(t, centre_y, amplitude, omega);
+  const SpringMassCheck check = spring_mass_check(t, centre_y, 1.0, amplitude, omega);
   EXPECT_NEAR(check.max_error_over_amplitude, 0.05, 1e-9);
   EXPECT_NEAR(check.exact[31], amplitude * (1 - std::cos(3.1)), 1e-15);
 }
