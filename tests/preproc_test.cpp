@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <set>
@@ -530,7 +531,7 @@ Rejection run_mesh(const BlockScene& scene, const std::string& extra = "") {
   return {result.status, result.output, left};
 }
 
-void expect_rejected(const Rejection& r, std::initializer_list<const char*> parts) {
+void expect_rejected(const Rejection& r, const std::vector<const char*>& parts) {
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_FALSE(r.left_model) << "a model was left behind";
   for (const char* part : parts) EXPECT_NE(r.output.find(part), std::string::npos) << part << " not in: " << r.output;
@@ -551,59 +552,46 @@ TEST(PreprocCli, ValidSceneWritesAModelThatReadsBack) {
   EXPECT_NE(result.output.find("particles"), std::string::npos);
 }
 
-TEST(PreprocCli, MissingGeo) {
-  BlockScene scene;
-  scene.geometry = "nowhere.geo";
-  expect_rejected(run_mesh(scene), {"nowhere.geo", "no such geometry file", "block.toml"});
-}
+// Each case changes one thing in a valid scene and names what the message must contain.
+struct BadInput {
+  const char* what;
+  std::function<void(BlockScene&)> change;
+  std::string extra_arguments;
+  std::vector<const char*> message_parts;
+};
 
-TEST(PreprocCli, GeoThatGmshCannotParse) {
-  BlockScene scene;
-  scene.geometry = "bad.geo";
-  expect_rejected(run_mesh(scene), {"bad.geo", "syntax error"});  // gmsh's own words
-}
-
-TEST(PreprocCli, GroupAbsentFromTheGeo) {
-  BlockScene scene;
-  scene.body_group = "granite";
-  expect_rejected(run_mesh(scene), {"block.geo", "granite", "bodies.block", "overhang"});
-}
-
-TEST(PreprocCli, BodyOutsideTheDomain) {
-  BlockScene scene;
-  scene.body_group = "overhang";
-  expect_rejected(run_mesh(scene), {"block.toml", "bodies.block", "outside the domain"});
-}
-
-TEST(PreprocCli, UnknownMaterialModel) {
-  BlockScene scene;
-  scene.model = "plasticine";
-  expect_rejected(run_mesh(scene), {"block.toml", "materials.rock.model", "plasticine"});
-}
-
-TEST(PreprocCli, NonPositiveAndNanDensity) {
-  for (const char* density : {"0.0", "-1.0", "nan"}) {
+TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
+  const std::vector<BadInput> cases{
+      {"missing .geo", [](BlockScene& s) { s.geometry = "nowhere.geo"; }, "",
+       {"nowhere.geo", "no such geometry file", "block.toml"}},
+      {"unparsable .geo", [](BlockScene& s) { s.geometry = "bad.geo"; }, "",
+       {"bad.geo", "syntax error"}},  // gmsh's own words
+      {"group absent from the .geo", [](BlockScene& s) { s.body_group = "granite"; }, "",
+       {"block.geo", "granite", "bodies.block", "overhang"}},
+      {"body outside the domain", [](BlockScene& s) { s.body_group = "overhang"; }, "",
+       {"block.toml", "bodies.block", "outside the domain"}},
+      {"unknown material model", [](BlockScene& s) { s.model = "plasticine"; }, "",
+       {"block.toml", "materials.rock.model", "plasticine"}},
+      {"zero density", [](BlockScene& s) { s.density = "0.0"; }, "", {"block.toml", "materials.rock.density"}},
+      {"negative density", [](BlockScene& s) { s.density = "-1.0"; }, "", {"block.toml", "materials.rock.density"}},
+      {"NaN density", [](BlockScene& s) { s.density = "nan"; }, "", {"block.toml", "materials.rock.density"}},
+      {"zero modulus", [](BlockScene& s) { s.youngs_modulus = "0.0"; }, "",
+       {"block.toml", "materials.rock.youngs_modulus"}},
+      {"negative mesh size", [](BlockScene& s) { s.size = "-0.1"; }, "", {"block.toml", "mesh.size"}},
+      {"zero mesh size by --set", [](BlockScene&) {}, "--set mesh.size=0", {"block.toml", "mesh.size"}},
+      {"--set of a key that does not exist", [](BlockScene&) {}, "--set run.end_tme=2",
+       {"block.toml", "run.end_tme", "end_time"}},
+  };
+  // The unchanged scene is valid, so each rejection below comes from its one change.
+  const Rejection valid = run_mesh(BlockScene{});
+  ASSERT_EQ(valid.status, 0) << valid.output;
+  ASSERT_TRUE(valid.left_model);
+  for (const auto& bad : cases) {
+    SCOPED_TRACE(bad.what);
     BlockScene scene;
-    scene.density = density;
-    expect_rejected(run_mesh(scene), {"block.toml", "materials.rock.density"});
+    bad.change(scene);
+    expect_rejected(run_mesh(scene, bad.extra_arguments), bad.message_parts);
   }
-}
-
-TEST(PreprocCli, NonPositiveModulus) {
-  BlockScene scene;
-  scene.youngs_modulus = "0.0";
-  expect_rejected(run_mesh(scene), {"block.toml", "materials.rock.youngs_modulus"});
-}
-
-TEST(PreprocCli, NonPositiveMeshSize) {
-  BlockScene scene;
-  scene.size = "-0.1";
-  expect_rejected(run_mesh(scene), {"block.toml", "mesh.size"});
-  expect_rejected(run_mesh(BlockScene{}, "--set mesh.size=0"), {"block.toml", "mesh.size"});
-}
-
-TEST(PreprocCli, SetOfAKeyThatDoesNotExist) {
-  expect_rejected(run_mesh(BlockScene{}, "--set run.end_tme=2"), {"block.toml", "run.end_tme", "end_time"});
 }
 
 }  // namespace
