@@ -121,7 +121,7 @@ def energy(out, written):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("energy (J per m thickness)")
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(loc="best")
     ax.set_title("energy history")
     save(fig, out, "energy.png", written)
 
