@@ -60,7 +60,7 @@ std::string mesh_stage(const Scene& scene, const std::string& folder, bool quiet
   write_model(path, model);
   if (!quiet) {
     preproc::print_report(report, std::cout);
-    std::cout << "wrote " << path << "\n";
+    std::cout << "wrote " << path << std::endl;
   }
   return path;
 }

@@ -195,6 +195,8 @@ std::vector<std::string> read_strings(const File& file, const std::string& path)
   if (H5Tget_class(file_type.id()) != H5T_STRING) fail(file, path, "expected strings");
   Handle type(H5Tcopy(H5T_C_S1));
   H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5Tget_cset(file_type.id()));
+  if (H5Tis_variable_str(file_type.id()) <= 0) fail(file, path, "expected variable-length strings");
   const Dims dims = shape(file, path);
   const hsize_t count = dims.empty() ? 1 : dims[0];
   std::vector<char*> pointers(count, nullptr);
@@ -279,8 +281,10 @@ std::string get_string(const File& file, const std::string& path, const std::str
   Handle attribute = open_attribute(file, path, name);
   Handle file_type(H5Aget_type(attribute.id()));
   if (H5Tget_class(file_type.id()) != H5T_STRING) fail(file, root_relative(path) + "@" + name, "expected a string");
+  if (H5Tis_variable_str(file_type.id()) <= 0) fail(file, root_relative(path) + "@" + name, "expected a string");
   Handle type(H5Tcopy(H5T_C_S1));
   H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5Tget_cset(file_type.id()));
   char* pointer = nullptr;
   if (H5Aread(attribute.id(), type.id(), &pointer) < 0)
     fail(file, root_relative(path) + "@" + name, "cannot read string");
