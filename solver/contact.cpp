@@ -16,12 +16,13 @@ void correct_node(Simulation& sim, int32_t i, Velocity velocity, OnChange on_cha
   int present = 0;
   bool rigid = false;
   double m = 0;
-  Vec2 momentum = Vec2::Zero(), gradient_sum = Vec2::Zero();
+  Vec2 momentum = Vec2::Zero(), gradient_sum = Vec2::Zero(), rigid_gradient = Vec2::Zero();
   for (std::size_t b = 0; b < bodies; ++b) {
     const Grid& grid = sim.fields[1 + b];
     if (grid.m[i] <= 0) continue;
     ++present;
     rigid = rigid || sim.body_fixed[b];
+    if (sim.body_fixed[b]) rigid_gradient += grid.mass_gradient[i];
     m += grid.m[i];
     momentum += grid.m[i] * velocity(b);
     gradient_sum += grid.mass_gradient[i];
@@ -32,8 +33,12 @@ void correct_node(Simulation& sim, int32_t i, Velocity velocity, OnChange on_cha
   for (std::size_t b = 0; b < bodies; ++b) {
     const Grid& grid = sim.fields[1 + b];
     if (grid.m[i] <= 0 || sim.body_fixed[b]) continue;
-    // One consistent normal per body pair: outward from b, towards the others' mass.
-    Vec2 normal = (gradient_sum - grid.mass_gradient[i]) - grid.mass_gradient[i];
+    // sum_p m_p grad N_ip points from a body's particles towards the node: the body's outward
+    // normal. One consistent normal per pair: b's outward normal minus the others' (which
+    // point into b), so that the pair's two normals are opposite.
+    // Against a fixed support its face gives the normal alone: a moving body's own normal tilts
+    // at its corners, where tangential sliding would otherwise read as approach.
+    Vec2 normal = rigid ? Vec2(-rigid_gradient) : Vec2(grid.mass_gradient[i] - (gradient_sum - grid.mass_gradient[i]));
     const double length = normal.norm();
     if (length <= 0) continue;
     normal /= length;

@@ -65,7 +65,7 @@ struct Grid {
   std::vector<Vec2> f;     // total force, internal (A.8) plus external (A.7)
   std::vector<Vec2> a;     // acceleration
   std::vector<Vec2> v;     // velocity after the remap (A.11)
-  std::vector<Vec2> mass_gradient;  // sum grad N_ip m_p, for contact normals (contact only)
+  std::vector<Vec2> mass_gradient;  // sum m_p grad N_ip: the outward normal (contact only)
   std::vector<int32_t> active;  // nodes touched by particles this step
 };
 
