@@ -110,8 +110,10 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::set_attribute(file, "settings/run", "cfl", run.cfl);
   h5::set_attribute(file, "settings/run", "output_interval", run.output_interval);
   h5::set_attribute(file, "settings/run", "gravity", std::vector<double>{run.gravity.x(), run.gravity.y()});
+  h5::set_attribute(file, "settings/run", "gravity_ramp", run.gravity_ramp);
   h5::set_attribute(file, "settings/run", "damping", run.damping);
   h5::set_attribute(file, "settings/run", "evs", static_cast<int64_t>(run.evs));
+  h5::set_attribute(file, "settings/run", "pic_fraction", run.pic_fraction);
   h5::set_attribute(file, "settings/run", "history_interval", static_cast<int64_t>(run.history_interval));
   h5::set_attribute(file, "settings/run", "rest_ratio", run.rest_ratio);
   h5::set_attribute(file, "settings/run", "rest_window", run.rest_window);
@@ -191,13 +193,16 @@ void read_metadata(const h5::File& file, Model& model) {
   const auto gravity = h5::get_doubles(file, "settings/run", "gravity");
   if (gravity.size() != 2) throw Error(located(file.path(), "settings/run@gravity", "expected two numbers"));
   run.gravity = {gravity[0], gravity[1]};
+  run.gravity_ramp = h5::get_double(file, "settings/run", "gravity_ramp");
   run.damping = h5::get_double(file, "settings/run", "damping");
   run.evs = h5::get_int(file, "settings/run", "evs") != 0;
+  run.pic_fraction = h5::get_double(file, "settings/run", "pic_fraction");
   run.history_interval = static_cast<int>(h5::get_int(file, "settings/run", "history_interval"));
   run.rest_ratio = h5::get_double(file, "settings/run", "rest_ratio");
   run.rest_window = h5::get_double(file, "settings/run", "rest_window");
   run.max_steps = h5::get_int(file, "settings/run", "max_steps");
   if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
+      !(run.pic_fraction >= 0 && run.pic_fraction <= 1) || !(run.gravity_ramp >= 0) ||
       !std::isfinite(run.gravity.norm()) || run.history_interval < 1)
     throw Error(located(file.path(), "settings/run", "run settings out of range"));
 

@@ -293,8 +293,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   rs.cfl = run.number("cfl", rs.cfl, 0, 1, false, true);
   rs.output_interval = run.number("output_interval", rs.output_interval, 0, kInf, false);
   rs.gravity = run.vector2("gravity", rs.gravity);
+  rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
   rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
   rs.evs = run.boolean("evs", rs.evs);
+  rs.pic_fraction = run.number("pic_fraction", rs.pic_fraction, 0, 1);
   rs.history_interval = static_cast<int>(run.integer("history_interval", rs.history_interval, 1, 1000000));
   rs.rest_ratio = run.number("rest_ratio", rs.rest_ratio, 0, 1, true, false);
   rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);

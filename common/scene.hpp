@@ -76,8 +76,16 @@ struct RunSettings {
   double cfl = 0.5;             // alpha in dt = alpha h_min / (c_d + max|v_p|), in (0, 1]
   double output_interval = 0.1; // s between frames
   Eigen::Vector2d gravity{0, -9.81};  // m/s^2
+  // Gravity rises smoothly, g (1 - cos(pi t / T)) / 2, over the first T = gravity_ramp seconds
+  // (0: full gravity from t = 0, as the seed applies it). A ramp several times the bodies'
+  // longest elastic period loads them quasi-statically instead of dropping them.
+  double gravity_ramp = 0;
   double damping = 0;           // local (Cundall) damping coefficient in [0, 1)
   bool evs = false;             // enhanced volumetric strain (Detournay and Dzik 2006)
+  // Share of the grid (PIC) velocity blended into the particle velocity after each step; 0 is
+  // the seed's pure FLIP update (A.10). A few percent damp the particle velocities that the
+  // grid cannot see (FLIP's null space) and that otherwise never come to rest.
+  double pic_fraction = 0;
   int history_interval = 10;    // steps between energy-history records
   // Stop before end_time once kinetic energy has stayed below rest_ratio x its peak for
   // rest_window seconds (after the peak). rest_ratio = 0 disables it.

@@ -32,6 +32,7 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
   history_kinetic_ = h5::Appendable(file_, "history/kinetic_energy", {}, H5T_NATIVE_DOUBLE, 1024);
   history_potential_ = h5::Appendable(file_, "history/potential_energy", {}, H5T_NATIVE_DOUBLE, 1024);
   history_strain_ = h5::Appendable(file_, "history/strain_energy", {}, H5T_NATIVE_DOUBLE, 1024);
+  history_particle_kinetic_ = h5::Appendable(file_, "history/particle_kinetic_energy", {}, H5T_NATIVE_DOUBLE, 1024);
   h5::set_attribute(file_, "/", "particles", static_cast<int64_t>(n));
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
   h5::set_attribute(file_, "/", "loop_seconds", 0.0);
@@ -51,7 +52,8 @@ void ResultsWriter::write_frame(const Simulation& sim) {
   };
   time_set_.append(&sim.time);
   position_.append(gather(2, [&](std::size_t p, int k) { return P.x[p][k]; }));
-  velocity_.append(gather(2, [&](std::size_t p, int k) { return P.v[p][k]; }));
+  const std::vector<Vec2> velocity = grid_velocity_at_particles(sim);
+  velocity_.append(gather(2, [&](std::size_t p, int k) { return velocity[p][k]; }));
   stress_.append(gather(4, [&](std::size_t p, int k) { return P.sigma[p][k]; }));
   plastic_strain_.append(gather(1, [&](std::size_t p, int) { return P.eps_p[p]; }));
   time_.push_back(sim.time);
@@ -63,7 +65,8 @@ void ResultsWriter::write_frame(const Simulation& sim) {
 
 void ResultsWriter::record_history(const Simulation& sim, const Energies& energy) {
   pending_time_.push_back(sim.time);
-  pending_kinetic_.push_back(energy.kinetic);
+  pending_kinetic_.push_back(energy.grid_kinetic);
+  pending_particle_kinetic_.push_back(energy.kinetic);
   pending_potential_.push_back(energy.potential);
   pending_strain_.push_back(energy.strain);
 }
@@ -74,10 +77,12 @@ void ResultsWriter::flush_history() {
   history_kinetic_.append(pending_kinetic_.data(), rows);
   history_potential_.append(pending_potential_.data(), rows);
   history_strain_.append(pending_strain_.data(), rows);
+  history_particle_kinetic_.append(pending_particle_kinetic_.data(), rows);
   pending_time_.clear();
   pending_kinetic_.clear();
   pending_potential_.clear();
   pending_strain_.clear();
+  pending_particle_kinetic_.clear();
 }
 
 void ResultsWriter::finish(long steps, double loop_seconds) {

@@ -28,9 +28,10 @@ class ResultsWriter {
   std::size_t particles_;
   h5::File file_;
   h5::Appendable time_set_, position_, velocity_, stress_, plastic_strain_;
-  h5::Appendable history_time_, history_kinetic_, history_potential_, history_strain_;
+  h5::Appendable history_time_, history_kinetic_, history_potential_, history_strain_, history_particle_kinetic_;
   std::vector<double> time_;
-  std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_;
+  std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
+      pending_particle_kinetic_;
   std::vector<double> scratch_;
 };
 

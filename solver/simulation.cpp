@@ -42,7 +42,9 @@ Simulation make_simulation(const Model& model, int threads) {
   sim.mesh = build_mesh(model);
   sim.constraints = build_constraints(model);
   sim.gravity = model.run.gravity;
+  sim.gravity_ramp = model.run.gravity_ramp;
   sim.damping = model.run.damping;
+  sim.pic_fraction = model.run.pic_fraction;
   sim.evs = model.run.evs;
 
   for (const auto& material : model.materials) sim.materials.push_back(make_material(material));
@@ -137,6 +139,11 @@ void sort_particles(Simulation& sim) {
   while (P.moving_count < n && !sim.body_fixed[P.body[P.moving_count]]) ++P.moving_count;
 }
 
+Vec2 gravity_at(const Simulation& sim, double t) {
+  if (t >= sim.gravity_ramp) return sim.gravity;
+  return 0.5 * (1 - std::cos(M_PI * t / sim.gravity_ramp)) * sim.gravity;
+}
+
 double stable_time_step(const Simulation& sim, double cfl) {
   double wave_speed = 0;
   for (const auto& material : sim.materials) wave_speed = std::max(wave_speed, material.wave_speed);
@@ -183,7 +190,7 @@ void particles_to_grid(Simulation& sim) {
   const Mesh& mesh = sim.mesh;
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
-  const Vec2 g = sim.gravity;
+  const Vec2 g = gravity_at(sim, sim.time);
   const bool gradients = sim.contact;
 #pragma omp parallel
   {
@@ -269,9 +276,15 @@ void update_grid_accelerations(Simulation& sim, double dt) {
         const Vec2& mom = grid.p[i];
         for (int d = 0; d < 2; ++d) f[d] -= alpha * std::abs(f[d]) * (mom[d] > 0 ? 1.0 : mom[d] < 0 ? -1.0 : 0.0);
       }
-      grid.a[i] = f / grid.m[i];
-      constrain(sim.constraints, i, grid.a[i]);
-      constrain(sim.constraints, i, grid.p[i]);
+      // The constraint holds for the velocity at the end of the step: a constrained node's
+      // acceleration is whatever brings its velocity to the allowed one in dt. Zeroing the
+      // acceleration alone would leave the particles beside a fixed node with whatever velocity
+      // they carried in, moving nowhere but counted as kinetic energy.
+      const Vec2 v = grid.p[i] / grid.m[i];
+      Vec2 v_end = v + dt * f / grid.m[i];
+      constrain(sim.constraints, i, v_end);
+      grid.a[i] = dt > 0 ? Vec2((v_end - v) / dt) : Vec2(f / grid.m[i]);
+      if (dt == 0) constrain(sim.constraints, i, grid.a[i]);
     }
   }
   if (sim.contact) apply_contact(sim, dt);
@@ -342,6 +355,7 @@ void update_particle_kinematics(Simulation& sim, double dt) {
       L += vi * mesh.gradient(e, k).transpose();
     }
     P.x[p] += dt * v;  // (A.12)
+    P.v[p] += sim.pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
     P.d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
     // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
     const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
@@ -422,6 +436,21 @@ bool relocate_particles(Simulation& sim) {
   return lost < 0;
 }
 
+std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
+  const Particles& P = sim.particles;
+  std::vector<Vec2> velocity(P.size(), Vec2::Zero());
+  if (sim.steps == 0) return P.v;  // no grid field yet: the initial velocities
+  const long moving = static_cast<long>(P.moving_count);
+#pragma omp parallel for schedule(static)
+  for (long p = 0; p < moving; ++p) {
+    const int32_t e = P.element[p];
+    const Vec3 N = sim.mesh.weights(e, P.x[p]);
+    const Grid& grid = sim.fields[field_of(sim, P.body[p])];
+    for (int k = 0; k < 3; ++k) velocity[p] += N[k] * grid.v[sim.mesh.triangles[e][k]];
+  }
+  return velocity;
+}
+
 Energies energies(const Simulation& sim) {
   const Particles& P = sim.particles;
   const long moving = static_cast<long>(P.moving_count);
@@ -432,7 +461,18 @@ Energies energies(const Simulation& sim) {
     potential -= P.m[p] * sim.gravity.dot(P.x[p]);
     strain += P.volume[p] * elastic_energy_density(sim.materials[sim.material_of_body[P.body[p]]], P.sigma[p]);
   }
-  return {kinetic, potential, strain};
+  // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
+  // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they
+  // move nothing and would keep a deposit at rest from ever looking so.
+  double grid_kinetic = 0;
+  const auto& active = sim.fields[0].active;
+  const long count = static_cast<long>(active.size());
+  for (std::size_t field = sim.contact ? 1 : 0; field < sim.fields.size(); ++field) {
+    const Grid& grid = sim.fields[field];
+#pragma omp parallel for schedule(static) reduction(+ : grid_kinetic)
+    for (long k = 0; k < count; ++k) grid_kinetic += 0.5 * grid.m[active[k]] * grid.v[active[k]].squaredNorm();
+  }
+  return {kinetic, potential, strain, grid_kinetic};
 }
 
 }  // namespace talus::solver

@@ -31,8 +31,10 @@ struct Simulation {
   std::vector<uint8_t> body_fixed;
   std::vector<MaterialState> materials;
 
-  Vec2 gravity{0, -9.81};
+  Vec2 gravity{0, -9.81};       // full gravity
+  double gravity_ramp = 0;      // s; see RunSettings::gravity_ramp
   double damping = 0;  // local (Cundall) damping coefficient
+  double pic_fraction = 0;  // share of the grid velocity in the particle velocity (0: FLIP)
   bool evs = false;
 
   double time = 0;
@@ -52,6 +54,9 @@ struct Simulation {
 // Builds the simulation from a model: mesh geometry, constraints, particles sorted by element,
 // fields and scratch sized for `threads` threads.
 Simulation make_simulation(const Model& model, int threads);
+
+// Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp.
+Vec2 gravity_at(const Simulation& sim, double t);
 
 // The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
 double stable_time_step(const Simulation& sim, double cfl);
@@ -83,8 +88,15 @@ void apply_contact_velocities(Simulation& sim);
 void sort_particles(Simulation& sim);
 
 struct Energies {
-  double kinetic = 0, potential = 0, strain = 0;  // J per m thickness
+  double kinetic = 0;       // of the particle (FLIP) velocities, J per m thickness
+  double potential = 0;     // -sum m_p g . x_p
+  double strain = 0;        // elastic strain energy
+  double grid_kinetic = 0;  // of the grid velocity field, the one that moves the material (A.12)
 };
 Energies energies(const Simulation& sim);
+
+// The grid velocity at each particle, sum N_i v_i with the last step's remapped velocities: the
+// velocity that moves it (A.12), free of the FLIP components that the grid cannot see.
+std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim);
 
 }  // namespace talus::solver
