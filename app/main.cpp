@@ -5,12 +5,14 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "app/cli.hpp"
 #include "common/error.hpp"
 #include "common/model.hpp"
 #include "common/scene.hpp"
 #include "preproc/preproc.hpp"
+#include "postproc/postproc.hpp"
 #include "solver/solver.hpp"
 
 namespace fs = std::filesystem;
@@ -26,8 +28,12 @@ Usage:
   talus solve MODEL.h5 [--out DIR] [--threads N] [--quiet]
         Run the explicit MPM time loop; write DIR/results.h5 and results.xdmf
         (default DIR: the model's folder).
+  talus post  RESULTS.h5 [--out DIR]
+        Runout, failure surface, Bishop's factor of safety or the validation
+        comparison (as the scene's [post] asks): metrics.json, CSV, PNG figures
+        (default DIR: the results' folder).
   talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
-        The pipeline on a scene (default geometries/slope.toml): mesh, then solve.
+        The pipeline on a scene (default geometries/slope.toml): mesh, solve, post.
 
 Options:
   --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
@@ -79,6 +85,17 @@ void solve_stage(const std::string& model_path, const std::string& folder, const
   }
 }
 
+// Stage 3: results.h5 -> metrics.json, CSV, PNG. Returns the exit status (1: figures failed).
+int post_stage(const std::string& results_path, const std::string& folder, bool quiet) {
+  std::ostringstream quiet_log;
+  return postproc::run_post(results_path, folder, quiet ? static_cast<std::ostream&>(quiet_log) : std::cout);
+}
+
+std::string folder_of(const std::string& path) {
+  const std::string folder = fs::path(path).parent_path().string();
+  return folder.empty() ? "." : folder;
+}
+
 int run_command(const cli::Arguments& args) {
   if (args.help || args.command.empty() || args.command == "help") {
     std::cout << kUsage;
@@ -96,19 +113,26 @@ int run_command(const cli::Arguments& args) {
   if (args.command == "solve") {
     const std::string model_path = require_input(args, "model file");
     if (!args.overrides.empty()) throw Error("solve reads a model, not a scene: --set belongs to mesh or run");
-    const std::string folder = args.out ? *args.out : fs::path(model_path).parent_path().string();
-    fs::create_directories(folder.empty() ? "." : folder);
-    solve_stage(model_path, folder.empty() ? "." : folder, args);
+    const std::string folder = args.out ? *args.out : folder_of(model_path);
+    fs::create_directories(folder);
+    solve_stage(model_path, folder, args);
     return 0;
+  }
+  if (args.command == "post") {
+    const std::string results_path = require_input(args, "results file");
+    if (!args.overrides.empty()) throw Error("post reads results, not a scene: --set belongs to mesh or run");
+    const std::string folder = args.out ? *args.out : folder_of(results_path);
+    fs::create_directories(folder);
+    return post_stage(results_path, folder, args.quiet);
   }
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     const Scene scene = load_scene(scene_path, args.overrides);
     const std::string folder = output_folder(args, scene);
     solve_stage(mesh_stage(scene, folder, args.quiet), folder, args);
-    return 0;
+    return post_stage((fs::path(folder) / "results.h5").string(), folder, args.quiet);
   }
-  throw Error("unknown command '" + args.command + "' (expected mesh, solve or run; see talus --help)");
+  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post or run; see talus --help)");
 }
 
 }  // namespace
