@@ -5,7 +5,7 @@ w = 0.1;        // column width, m (unit thickness: cross-section 0.1 m^2)
 spring = 1.0;   // spring length, m
 mass = 0.05;    // mass height, m
 top = 1.1;      // domain top, m
-lc = 0.025;     // element size, m
+lc = 0.05;      // element size, m (the scene's [mesh] size overrides it)
 
 Point(1) = {0, 0, 0, lc};
 Point(2) = {w, 0, 0, lc};

@@ -85,11 +85,11 @@ void ResultsWriter::flush_history() {
   pending_particle_kinetic_.clear();
 }
 
-void ResultsWriter::finish(long steps, double loop_seconds) {
+void ResultsWriter::finish(long steps, double loop_seconds, bool complete) {
   flush_history();
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(steps));
   h5::set_attribute(file_, "/", "loop_seconds", loop_seconds);
-  h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(1));
+  h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(complete));
   file_.flush();
   file_.close();
   write_xdmf();

@@ -15,8 +15,9 @@ class ResultsWriter {
   ResultsWriter(const std::string& out_dir, const Model& model);
   void write_frame(const Simulation& sim);
   void record_history(const Simulation& sim, const Energies& energy);
-  // Writes the pending history and the run's root attributes, and flushes.
-  void finish(long steps, double loop_seconds);
+  // Writes the pending history and the run's root attributes (complete = 1 for a run that
+  // reached its end, 0 for one stopped by an error), and flushes.
+  void finish(long steps, double loop_seconds, bool complete);
   const std::string& path() const { return path_; }
   long frames() const { return static_cast<long>(time_.size()); }
 

@@ -90,7 +90,7 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   const auto start = Clock::now();
   auto fail = [&](const std::string& message) {
     progress.done();
-    writer.finish(sim.steps, std::chrono::duration<double>(Clock::now() - start).count());
+    writer.finish(sim.steps, std::chrono::duration<double>(Clock::now() - start).count(), false);
     throw Error("solve: " + message + "; " + std::to_string(writer.frames()) + " frames kept in " + writer.path());
   };
 
@@ -103,9 +103,14 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
       const Particles& P = sim.particles;
       std::ostringstream where;
       where << " at step " << sim.steps << ", t = " << sim.time << " s";
+      // An unstable run flings particles out of the domain before anything else shows: an
+      // energy beyond what the run can have tells a blow-up from a real exit.
+      const Energies energy = energies(sim);
+      const bool blown_up = !std::isfinite(energy.kinetic) || energy.kinetic > budget_limit;
       if (sim.lost_particle >= 0)
-        fail("particle " + std::to_string(P.id[sim.lost_particle]) + " left the domain at " +
-             point(P.x[sim.lost_particle]) + where.str());
+        fail(std::string(blown_up ? "numerical blow-up (kinetic energy beyond what gravity can supply): " : "") +
+             "particle " + std::to_string(P.id[sim.lost_particle]) + " left the domain at " +
+             point(P.x[sim.lost_particle]) + where.str() + (blown_up ? " (try a smaller run.cfl)" : ""));
       fail("numerical blow-up: particle " + std::to_string(P.id[sim.bad_particle]) + " near " +
            point(P.x[sim.bad_particle]) + " has a non-finite or inverted state" + where.str() +
            " (try a smaller run.cfl)");
@@ -149,7 +154,7 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   summary.loop_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   summary.steps = sim.steps;
   summary.simulated_time = sim.time;
-  writer.finish(sim.steps, summary.loop_seconds);
+  writer.finish(sim.steps, summary.loop_seconds, true);
   summary.frames = writer.frames();
   if (summary.stopped_at_rest)
     log << "at rest at t = " << sim.time << " s (kinetic energy below " << run.rest_ratio * 100 << "% of its peak for "

@@ -1,0 +1,163 @@
+// solve() as users and benchmarks see it: the results.h5 contract, frames flushed as written,
+// blow-up detection that keeps the frames and never writes NaN, particles leaving the domain.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "solver/solver.hpp"
+#include "support/test_support.hpp"
+
+using namespace talus;
+using talus::testing::add_box_body;
+using talus::testing::elastic;
+using talus::testing::rectangle_mesh;
+using talus::testing::ScratchDir;
+using talus::testing::set_run;
+
+namespace {
+
+Model falling_block() {
+  Model model = rectangle_mesh(0, 0, 10, 20, 0.1);
+  add_box_body(model, "block", elastic(1000, 1e6, 0.3), 0.3, 0.7, 1.2, 1.6);
+  add_box_body(model, "plate", elastic(500, 2e6, 0.2), 0.2, 0.8, 0.5, 0.7);
+  model.fixed_nodes = model.node_sets["bottom"];
+  set_run(model, 0.2, Eigen::Vector2d(0, -9.81));
+  model.run.output_interval = 0.05;
+  model.run.history_interval = 5;
+  model.contact.enabled = false;
+  return model;
+}
+
+solver::SolveSummary run(const Model& model, const ScratchDir& dir) {
+  solver::SolveOptions options;
+  options.out_dir = dir.path().string();
+  options.progress = false;
+  std::ostringstream log;
+  return solver::solve(model, options, log);
+}
+
+bool all_finite(const std::vector<double>& values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+}  // namespace
+
+TEST(Results, DatasetsHaveTheDocumentedNamesAndShapes) {
+  ScratchDir dir("results");
+  const Model model = falling_block();
+  const auto summary = run(model, dir);
+  const std::size_t n = model.particle_count();
+
+  const h5::File file = h5::File::open_read(dir.file("results.h5"));
+  EXPECT_EQ(h5::get_string(file, "/", "format"), "talus-results");
+  EXPECT_EQ(h5::get_int(file, "/", "particles"), static_cast<int64_t>(n));
+  EXPECT_EQ(h5::get_int(file, "/", "steps"), summary.steps);
+  EXPECT_GT(h5::get_double(file, "/", "loop_seconds"), 0.0);
+
+  const auto time = h5::read_doubles(file, "frames/time");
+  ASSERT_EQ(time.size(), 5u);  // t = 0, 0.05, ..., 0.2: frames land on the output times
+  for (std::size_t f = 0; f < time.size(); ++f) EXPECT_NEAR(time[f], 0.05 * f, 1e-12);
+  EXPECT_EQ(h5::shape(file, "frames/position"), (h5::Dims{5, n, 2}));
+  EXPECT_EQ(h5::shape(file, "frames/velocity"), (h5::Dims{5, n, 2}));
+  EXPECT_EQ(h5::shape(file, "frames/stress"), (h5::Dims{5, n, 4}));
+  EXPECT_EQ(h5::shape(file, "frames/plastic_strain"), (h5::Dims{5, n}));
+  EXPECT_EQ(h5::shape(file, "particles/body"), (h5::Dims{n}));
+  EXPECT_EQ(h5::shape(file, "particles/mass"), (h5::Dims{n}));
+  EXPECT_EQ(h5::read_strings(file, "bodies/names"), (std::vector<std::string>{"block", "plate"}));
+
+  // Frames keep the model's particle order although the solver sorts its particles.
+  const auto position = h5::read_doubles(file, "frames/position");
+  for (std::size_t p = 0; p < n; ++p) {
+    EXPECT_EQ(position[2 * p], model.position[p].x());
+    EXPECT_EQ(position[2 * p + 1], model.position[p].y());
+  }
+  // The block falls freely until it meets the plate (0.5 m below) after 0.2 s: sqrt(2 0.5 / g) = 0.32 s.
+  const auto velocity = h5::read_doubles(file, "frames/velocity");
+  for (std::size_t p = 0; p < n; ++p)
+    if (model.body[p] == 0) EXPECT_NEAR(velocity[((4 * n) + p) * 2 + 1], -9.81 * 0.2, 1e-9);
+
+  // Energy history every few steps, with gravity's work turned into kinetic energy.
+  const auto history_time = h5::read_doubles(file, "history/time");
+  const auto kinetic = h5::read_doubles(file, "history/kinetic_energy");
+  const auto potential = h5::read_doubles(file, "history/potential_energy");
+  const auto strain = h5::read_doubles(file, "history/strain_energy");
+  ASSERT_GE(history_time.size(), static_cast<std::size_t>(summary.steps / 5));
+  ASSERT_EQ(kinetic.size(), history_time.size());
+  const double total0 = kinetic.front() + potential.front() + strain.front();
+  const double total1 = kinetic.back() + potential.back() + strain.back();
+  EXPECT_GT(kinetic.back(), 0.0);
+  EXPECT_NEAR(total1, total0, 0.02 * kinetic.back());
+
+  // ParaView's entry point refers to every frame.
+  std::ifstream xdmf(dir.file("results.xdmf"));
+  std::stringstream text;
+  text << xdmf.rdbuf();
+  std::size_t grids = 0;
+  for (std::size_t at = text.str().find("<Time Value"); at != std::string::npos; at = text.str().find("<Time Value", at + 1))
+    ++grids;
+  EXPECT_EQ(grids, 5u);
+  EXPECT_NE(text.str().find("results.h5:/frames/position"), std::string::npos);
+}
+
+TEST(Results, BlowUpStopsTheRunKeepsTheFramesAndWritesNoNaN) {
+  ScratchDir dir("blowup");
+  Model model = falling_block();
+  model.run.cfl = 8;  // far past the stability limit of the explicit step (scenes cap it at 1)
+  model.run.end_time = 1.0;
+  model.run.output_interval = 0.1;  // frames must not shorten the step themselves
+  try {
+    run(model, dir);
+    FAIL() << "the run should have blown up";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("blow-up"), std::string::npos) << message;
+    EXPECT_NE(message.find("t = "), std::string::npos) << message;
+    EXPECT_NE(message.find("frames kept"), std::string::npos) << message;
+  }
+  const h5::File file = h5::File::open_read(dir.file("results.h5"));
+  EXPECT_EQ(h5::get_int(file, "/", "complete"), 0);
+  EXPECT_GE(h5::read_doubles(file, "frames/time").size(), 1u);
+  EXPECT_TRUE(all_finite(h5::read_doubles(file, "frames/position")));
+  EXPECT_TRUE(all_finite(h5::read_doubles(file, "frames/stress")));
+  EXPECT_TRUE(all_finite(h5::read_doubles(file, "history/kinetic_energy")));
+}
+
+TEST(Results, AParticleLeavingTheDomainIsAnErrorWithItsIdAndPosition) {
+  ScratchDir dir("leaving");
+  Model model = rectangle_mesh(0, 0, 10, 10, 0.1);
+  add_box_body(model, "block", elastic(1000, 1e6, 0.3), 0.6, 0.8, 0.4, 0.6);
+  for (auto& v : model.velocity) v = Eigen::Vector2d(3.0, 0.0);  // towards the open right side
+  set_run(model, 1.0);
+  model.run.output_interval = 0.05;
+  try {
+    run(model, dir);
+    FAIL() << "a particle should have left the domain";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("left the domain at ("), std::string::npos) << message;
+    EXPECT_NE(message.find("particle "), std::string::npos) << message;
+  }
+  // The block reaches x = 1 after about (1 - 0.8) / 3 = 0.067 s: frames up to then are kept.
+  const h5::File file = h5::File::open_read(dir.file("results.h5"));
+  const auto time = h5::read_doubles(file, "frames/time");
+  ASSERT_GE(time.size(), 2u);
+  EXPECT_LE(time.back(), 0.07);
+}
+
+TEST(Results, ARunStoppedMidwayLeavesAReadableFileWithItsFrames) {
+  // Frames are flushed as written: the file is readable while the run is still going, which is
+  // what a killed run leaves. max_steps stops the run midway the way an interruption would.
+  ScratchDir dir("midway");
+  Model model = falling_block();
+  model.run.max_steps = 40;
+  const auto summary = run(model, dir);
+  EXPECT_EQ(summary.steps, 40);
+  const h5::File file = h5::File::open_read(dir.file("results.h5"));
+  const auto time = h5::read_doubles(file, "frames/time");
+  EXPECT_LT(time.back(), model.run.end_time);
+  EXPECT_EQ(h5::shape(file, "frames/position")[0], time.size());
+}
