@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "app/stamps.hpp"
 #include "common/error.hpp"
 #include "common/model.hpp"
 #include "common/scene.hpp"
@@ -78,7 +79,9 @@ void solve_stage(const std::string& model_path, const std::string& folder, const
   options.out_dir = folder;
   options.progress = !args.quiet;
   options.threads = args.threads;
-  const solver::SolveSummary summary = solver::solve(model, options, std::cout);
+  std::ostringstream discarded;
+  const solver::SolveSummary summary =
+      solver::solve(model, options, args.quiet ? static_cast<std::ostream&>(discarded) : std::cout);
   if (!args.quiet) {
     solver::print_summary(summary, std::cout);
     std::cout << "wrote " << (fs::path(folder) / "results.h5").string() << " and results.xdmf\n";
@@ -96,6 +99,34 @@ std::string folder_of(const std::string& path) {
   return folder.empty() ? "." : folder;
 }
 
+// mesh + solve + post, skipping each stage whose inputs have not changed since it last ran here.
+int run_pipeline(const Scene& scene, const std::string& folder, const cli::Arguments& args) {
+  const fs::path out(folder);
+  const uint64_t mesh_inputs =
+      stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
+  const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
+  const uint64_t post_inputs = stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs));
+  auto up_to_date = [&](const char* stage, uint64_t inputs, const fs::path& output) {
+    const bool same = fs::exists(output) && stamps::recorded(folder, stage) == inputs;
+    if (same && !args.quiet) std::cout << stage << ": inputs unchanged, skipped (" << output.string() << ")\n";
+    return same;
+  };
+  if (!up_to_date("mesh", mesh_inputs, out / "model.h5")) {
+    mesh_stage(scene, folder, args.quiet);
+    stamps::record(folder, "mesh", mesh_inputs);
+  }
+  if (!up_to_date("solve", solve_inputs, out / "results.h5")) {
+    solve_stage((out / "model.h5").string(), folder, args);
+    stamps::record(folder, "solve", solve_inputs);
+  }
+  if (!up_to_date("post", post_inputs, out / "metrics.json")) {
+    const int status = post_stage((out / "results.h5").string(), folder, args.quiet);
+    if (status != 0) return status;
+    stamps::record(folder, "post", post_inputs);
+  }
+  return 0;
+}
+
 int run_command(const cli::Arguments& args) {
   if (args.help || args.command.empty() || args.command == "help") {
     std::cout << kUsage;
@@ -107,7 +138,9 @@ int run_command(const cli::Arguments& args) {
   }
   if (args.command == "mesh") {
     const Scene scene = load_scene(require_input(args, "scene file"), args.overrides);
-    mesh_stage(scene, output_folder(args, scene), args.quiet);
+    const std::string folder = output_folder(args, scene);
+    stamps::forget(folder);
+    mesh_stage(scene, folder, args.quiet);
     return 0;
   }
   if (args.command == "solve") {
@@ -115,6 +148,7 @@ int run_command(const cli::Arguments& args) {
     if (!args.overrides.empty()) throw Error("solve reads a model, not a scene: --set belongs to mesh or run");
     const std::string folder = args.out ? *args.out : folder_of(model_path);
     fs::create_directories(folder);
+    stamps::forget(folder);
     solve_stage(model_path, folder, args);
     return 0;
   }
@@ -123,14 +157,13 @@ int run_command(const cli::Arguments& args) {
     if (!args.overrides.empty()) throw Error("post reads results, not a scene: --set belongs to mesh or run");
     const std::string folder = args.out ? *args.out : folder_of(results_path);
     fs::create_directories(folder);
+    stamps::forget(folder);
     return post_stage(results_path, folder, args.quiet);
   }
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     const Scene scene = load_scene(scene_path, args.overrides);
-    const std::string folder = output_folder(args, scene);
-    solve_stage(mesh_stage(scene, folder, args.quiet), folder, args);
-    return post_stage((fs::path(folder) / "results.h5").string(), folder, args.quiet);
+    return run_pipeline(scene, output_folder(args, scene), args);
   }
   throw Error("unknown command '" + args.command + "' (expected mesh, solve, post or run; see talus --help)");
 }

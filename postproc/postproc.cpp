@@ -295,14 +295,6 @@ std::string shell_quoted(const std::string& text) {
   return out + "'";
 }
 
-std::string default_figures_script() {
-#ifdef TALUS_SOURCE_DIR
-  return std::string(TALUS_SOURCE_DIR) + "/postproc/figures.py";
-#else
-  return {};
-#endif
-}
-
 std::string format(std::optional<double> value, int precision, const std::string& unit) {
   if (!value) return "n/a";
   std::ostringstream out;
@@ -346,6 +338,14 @@ void print_summary(const Metrics& m, std::ostream& log) {
 
 }  // namespace
 
+std::string figures_script() {
+#ifdef TALUS_SOURCE_DIR
+  return std::string(TALUS_SOURCE_DIR) + "/postproc/figures.py";
+#else
+  return {};
+#endif
+}
+
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options) {
   const Results results = read_results(results_path);
@@ -383,7 +383,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
   log << "  wrote " << (out / "metrics.json").string() << " and CSV histories\n";
 
   if (!options.figures) return 0;
-  const std::string script = options.figures_script.empty() ? default_figures_script() : options.figures_script;
+  const std::string script = options.figures_script.empty() ? figures_script() : options.figures_script;
   if (script.empty() || !fs::exists(script)) {
     log << "  figures skipped: figures.py not found" << (script.empty() ? "" : " at " + script) << "\n";
     return 1;

@@ -32,6 +32,9 @@ struct PostOptions {
 // failed (the log says why). Throws talus::Error on unreadable or inconsistent results and on
 // a scene whose metrics cannot be computed (an unknown metric, a flat "slope", Bishop on an
 // elastic material), naming the file and the item.
+// The figures script this build uses by default (empty when built without TALUS_SOURCE_DIR).
+std::string figures_script();
+
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options = {});
 
