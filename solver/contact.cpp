@@ -7,27 +7,24 @@
 namespace talus::solver {
 namespace {
 
-// Corrects the velocities `velocity(b)` of the bodies at node i against the reference
+// Corrects the velocities `velocity(b)` of the bodies at contact node i against the reference
 // (centre-of-mass, or zero where a fixed body is present). `on_change(b, delta)` receives
 // each body's correction.
 template <class Velocity, class OnChange>
 void correct_node(Simulation& sim, int32_t i, Velocity velocity, OnChange on_change) {
   const std::size_t bodies = sim.fields.size() - 1;
-  int present = 0;
   bool rigid = false;
   double m = 0;
   Vec2 momentum = Vec2::Zero(), gradient_sum = Vec2::Zero(), rigid_gradient = Vec2::Zero();
   for (std::size_t b = 0; b < bodies; ++b) {
     const Grid& grid = sim.fields[1 + b];
     if (grid.m[i] <= 0) continue;
-    ++present;
     rigid = rigid || sim.body_fixed[b];
     if (sim.body_fixed[b]) rigid_gradient += grid.mass_gradient[i];
     m += grid.m[i];
     momentum += grid.m[i] * velocity(b);
     gradient_sum += grid.mass_gradient[i];
   }
-  if (present < 2) return;  // not a contact node
   const Vec2 reference = rigid ? Vec2::Zero() : Vec2(momentum / m);
 
   for (std::size_t b = 0; b < bodies; ++b) {
@@ -63,12 +60,26 @@ void correct_node(Simulation& sim, int32_t i, Velocity velocity, OnChange on_cha
 
 }  // namespace
 
+void find_contact_nodes(Simulation& sim) {
+  // Serial: one look at each active node's body masses is small beside P2G.
+  const std::size_t bodies = sim.fields.size() - 1;
+  sim.contact_nodes.clear();
+  for (int32_t i : sim.fields[0].active) {
+    int present = 0;
+    for (std::size_t b = 0; b < bodies && present < 2; ++b) present += sim.fields[1 + b].m[i] > 0;
+    if (present >= 2) sim.contact_nodes.push_back(i);
+  }
+}
+
 void apply_contact(Simulation& sim, double dt) {
-  const auto& active = sim.fields[0].active;
-  const long count = static_cast<long>(active.size());
+  // The masses are those of this step's P2G; the remap (A.11) reuses them, and so the list.
+  find_contact_nodes(sim);
+  const auto& nodes = sim.contact_nodes;
+  const long count = static_cast<long>(nodes.size());
+  if (count == 0) return;  // bodies apart: not even a thread team
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < count; ++k) {
-    const int32_t i = active[k];
+    const int32_t i = nodes[k];
     auto trial_velocity = [&](std::size_t b) -> Vec2 {
       const Grid& grid = sim.fields[1 + b];
       return grid.p[i] / grid.m[i] + dt * grid.a[i];
@@ -80,11 +91,12 @@ void apply_contact(Simulation& sim, double dt) {
 }
 
 void apply_contact_velocities(Simulation& sim) {
-  const auto& active = sim.fields[0].active;
-  const long count = static_cast<long>(active.size());
+  const auto& nodes = sim.contact_nodes;
+  const long count = static_cast<long>(nodes.size());
+  if (count == 0) return;
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < count; ++k) {
-    const int32_t i = active[k];
+    const int32_t i = nodes[k];
     correct_node(sim, i, [&](std::size_t b) -> Vec2 { return sim.fields[1 + b].v[i]; },
                  [&](std::size_t b, const Vec2& delta) { sim.fields[1 + b].v[i] += delta; });
   }

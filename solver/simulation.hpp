@@ -26,6 +26,7 @@ struct Simulation {
   std::vector<Grid> fields;
   bool contact = false;
   std::vector<std::vector<double>> pair_friction;  // [body][body], Coulomb coefficient
+  std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
 
   std::vector<int32_t> material_of_body;
   std::vector<uint8_t> body_fixed;
@@ -81,6 +82,9 @@ bool relocate_particles(Simulation& sim);
 // tangential part follows Coulomb stick or slip. A fixed body is rigid: the reference velocity
 // at a node it touches is zero. The first corrects the end-of-step trial velocity through the
 // accelerations (so (A.10) sees it), the second the remapped velocities (A.11).
+// apply_contact first lists the contact nodes (Simulation::contact_nodes); both then visit only
+// those, so bodies that share no node cost one pass over the active nodes' masses.
+void find_contact_nodes(Simulation& sim);
 void apply_contact(Simulation& sim, double dt);
 void apply_contact_velocities(Simulation& sim);
 
