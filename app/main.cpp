@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "app/fos.hpp"
 #include "app/stamps.hpp"
 #include "common/error.hpp"
 #include "common/model.hpp"
@@ -35,6 +36,9 @@ Usage:
         (default DIR: the results' folder).
   talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
         The pipeline on a scene (default geometries/slope.toml): mesh, solve, post.
+  talus fos   SCENE.toml [--set KEY=VALUE]... [--out DIR] [--threads N] [--tolerance=DF]
+        Factor of safety by shear strength reduction (trials on N threads, bracket
+        width DF, default 0.01): DIR/fos.json and fos.png (docs/fos.md).
 
 Options:
   --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
@@ -160,6 +164,7 @@ int run_command(const cli::Arguments& args) {
     stamps::forget(folder);
     return post_stage(results_path, folder, args.quiet);
   }
+  if (args.command == "fos") return run_fos(args);
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     const Scene scene = load_scene(scene_path, args.overrides);

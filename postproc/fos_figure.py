@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""The figure of `talus fos`: OUT/fos.png from OUT/fos.json and OUT/fos_particles.csv.
+
+Left: the slope in its initial configuration, particles coloured by their displacement in the
+smallest failing trial, with the slip surface extracted from it, its fitted circle, and Bishop's
+critical circle. Right: the monitoring point's displacement at each trial's verdict against F.
+
+    /usr/bin/python3 postproc/fos_figure.py --out out/griffiths_lane
+"""
+import argparse
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def arc_inside(circle, outline_x, outline_y, samples=721):
+    """Points of the circle's lower half that lie under the body's outline top (the slip arc)."""
+    theta = np.linspace(np.pi, 2 * np.pi, samples)
+    x = circle["xc_m"] + circle["r_m"] * np.cos(theta)
+    y = circle["yc_m"] + circle["r_m"] * np.sin(theta)
+    top = np.interp(x, outline_x, outline_y, left=np.nan, right=np.nan)
+    keep = y <= top + 1e-9
+    return x[keep], y[keep]
+
+
+def surface_of(outline):
+    """The upper boundary of the outline: for each x the highest y, x increasing."""
+    pts = np.array(outline)
+    xs = np.unique(pts[:, 0])
+    ys = np.array([pts[pts[:, 0] == x, 1].max() for x in xs])
+    return xs, ys
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", required=True, help="folder with fos.json; fos.png is written there")
+    args = parser.parse_args()
+    with open(os.path.join(args.out, "fos.json")) as f:
+        fos = json.load(f)
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.8), gridspec_kw={"width_ratios": [1.7, 1]})
+
+    outline = np.array(fos["body_outline"] + [fos["body_outline"][0]])
+    ax.plot(outline[:, 0], outline[:, 1], color="0.3", lw=1)
+    particles = os.path.join(args.out, "fos_particles.csv")
+    if os.path.exists(particles):
+        data = np.loadtxt(particles, delimiter=",", skiprows=1, ndmin=2)
+        sc = ax.scatter(data[:, 0], data[:, 1], c=data[:, 2], s=3, cmap="viridis", rasterized=True)
+        fig.colorbar(sc, ax=ax, shrink=0.8, label=f"displacement at F = {fos['failing_factor']:.3f} (m)")
+    sx, sy = surface_of(fos["body_outline"])
+    if fos.get("slip_surface"):
+        line = np.array(fos["slip_surface"])
+        ax.plot(line[:, 0], line[:, 1], color="crimson", lw=2.2, label="MPM slip surface (first failing F)")
+    if fos.get("slip_circle"):
+        x, y = arc_inside(fos["slip_circle"], sx, sy)
+        ax.plot(x, y, color="crimson", lw=1, ls="--", label="circle fitted to it")
+    if fos.get("bishop_circle"):
+        x, y = arc_inside(fos["bishop_circle"], sx, sy)
+        ax.plot(x, y, color="darkorange", lw=1.8, ls=":", label=f"Bishop critical circle, F = {fos['bishop_fos']:.3f}")
+    m = fos["monitoring_point"]
+    ax.plot([m["x_m"]], [m["y_m"]], marker="*", ms=12, color="k", ls="none", label="monitoring point")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"{fos['scene']}: F = {fos['factor_of_safety']:.3f} by strength reduction")
+    ax.legend(loc="lower left", fontsize=8, framealpha=0.9)
+
+    trials = fos["trials"]
+    for failed, marker, colour, label in ((False, "o", "tab:green", "stable"), (True, "x", "tab:red", "failed")):
+        f = [t["factor"] for t in trials if t["failed"] == failed]
+        d = [t["monitor_displacement_m"] for t in trials if t["failed"] == failed]
+        bx.plot(f, d, marker=marker, ls="none", color=colour, label=label)
+    lo, hi = fos["bracket"]["lower"], fos["bracket"]["upper"]
+    bx.axvspan(lo, hi, color="0.85", label=f"bracket [{lo:.3f}, {hi:.3f}]")
+    if fos.get("bishop_fos"):
+        bx.axvline(fos["bishop_fos"], color="darkorange", ls=":", label="Bishop")
+    bx.axhline(fos["tolerances"]["displacement_limit_m"], color="0.4", ls="--", lw=1, label="displacement limit")
+    bx.set_yscale("log")
+    bx.set_xlabel("trial factor F")
+    bx.set_ylabel("monitoring-point displacement from equilibrium (m)")
+    bx.legend(fontsize=8)
+    bx.grid(alpha=0.3)
+
+    fig.tight_layout()
+    path = os.path.join(args.out, "fos.png")
+    fig.savefig(path + ".tmp.png", dpi=130)
+    os.replace(path + ".tmp.png", path)
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

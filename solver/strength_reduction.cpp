@@ -1,0 +1,242 @@
+#include "solver/strength_reduction.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <ostream>
+#include <sstream>
+#include <thread>
+
+#include "common/error.hpp"
+
+namespace talus::solver {
+
+// ---- The search -----------------------------------------------------------------------------
+
+SearchResult search_factor_of_safety(const TrialBatch& evaluate, const SearchSettings& s) {
+  if (!(s.stable_factor > 0)) throw Error("factor of safety search: the stable factor must be positive");
+  if (s.failed_factor && !(*s.failed_factor > s.stable_factor))
+    throw Error("factor of safety search: the failing factor " + std::to_string(*s.failed_factor) +
+                " is not above the stable one " + std::to_string(s.stable_factor));
+  if (!(s.tolerance > 0)) throw Error("factor of safety search: the tolerance must be positive");
+  const int workers = std::max(1, s.workers);
+  SearchResult r;
+  r.lower = s.stable_factor;
+  std::optional<double> upper = s.failed_factor;
+
+  while (!upper || *upper - r.lower > s.tolerance) {
+    if (r.rounds >= s.max_rounds) throw Error("factor of safety search: no bracket within " + std::to_string(s.max_rounds) + " rounds");
+    std::vector<double> factors;
+    if (!upper) {  // expand upwards from the largest stable factor
+      if (r.lower * s.growth > s.max_factor)
+        throw Error("factor of safety search: the slope is still stable at F = " + std::to_string(r.lower) +
+                    " (searched up to " + std::to_string(s.max_factor) + ")");
+      double f = r.lower;
+      for (int k = 0; k < workers; ++k) factors.push_back(f *= s.growth);
+    } else {  // equally spaced interior points: bisection (1 worker), trisection (2), ...
+      for (int k = 1; k <= workers; ++k) factors.push_back(r.lower + (*upper - r.lower) * k / (workers + 1));
+    }
+    const std::vector<TrialOutcome> outcomes = evaluate(factors);
+    if (outcomes.size() != factors.size()) throw Error("factor of safety search: the evaluator returned the wrong count");
+    ++r.rounds;
+    const int first = static_cast<int>(r.trials.size());
+    r.trials.insert(r.trials.end(), outcomes.begin(), outcomes.end());
+    // The smallest failing factor bounds from above; the largest stable one below it from below.
+    // A stable trial above a failing one (not monotone: a numerical accident) is ignored.
+    for (std::size_t k = 0; k < outcomes.size(); ++k)
+      if (outcomes[k].failed && (!upper || outcomes[k].factor < *upper)) {
+        upper = outcomes[k].factor;
+        r.upper_trial = first + static_cast<int>(k);
+      }
+    for (const auto& o : outcomes)
+      if (!o.failed && o.factor > r.lower && (!upper || o.factor < *upper)) r.lower = o.factor;
+  }
+  r.upper = *upper;
+  r.factor = 0.5 * (r.lower + r.upper);
+  return r;
+}
+
+// ---- The MPM trials -------------------------------------------------------------------------
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double degrees(double radians) { return radians * 180.0 / M_PI; }
+double radians(double degrees) { return degrees * M_PI / 180.0; }
+
+double moving_mass(const Simulation& sim) {
+  double mass = 0;
+  for (std::size_t p = 0; p < sim.particles.moving_count; ++p) mass += sim.particles.m[p];
+  return mass;
+}
+
+long index_of(const Simulation& sim, int32_t id) {
+  const auto& ids = sim.particles.id;
+  const auto found = std::find(ids.begin(), ids.end(), id);
+  if (found == ids.end()) throw Error("strength reduction: no monitoring particle " + std::to_string(id));
+  return found - ids.begin();
+}
+
+// Runs sim until the verdict of the header's criteria. Times in seconds, from sim.time now.
+TrialOutcome run_to_verdict(Simulation& sim, const ReductionProblem& problem, double min_time, double budget,
+                            double window) {
+  const ReductionSettings& s = problem.settings;
+  const auto start = Clock::now();
+  const double g = sim.gravity.norm();
+  const double energy_scale = moving_mass(sim) * g * problem.height;
+  const double speed_scale = std::sqrt(g * problem.height);
+  const double limit = s.displacement_limit * problem.height;
+  const long monitor = index_of(sim, problem.monitor);
+  const Vec2 x_ref = sim.particles.x[monitor];
+  const double t0 = sim.time;
+  const long steps0 = sim.steps;
+
+  TrialOutcome out;
+  Vec2 x_last = x_ref;
+  double t_last = t0, quiet_since = -1;
+  while (true) {
+    const double dt = stable_time_step(sim, s.cfl);
+    if (!std::isfinite(dt) || dt <= 0 || !step(sim, dt)) {
+      out.failed = true;
+      out.reason = "blow-up";
+      break;
+    }
+    if ((sim.steps - steps0) % s.check_interval != 0) continue;
+    const Vec2& x = sim.particles.x[monitor];
+    const double t = sim.time;
+    out.monitor_displacement = (x - x_ref).norm();
+    out.kinetic_ratio = energies(sim).grid_kinetic / energy_scale;
+    const double rate = (x - x_last).norm() / (t - t_last) / speed_scale;
+    x_last = x;
+    t_last = t;
+    if (!std::isfinite(out.kinetic_ratio)) {
+      out.failed = true;
+      out.reason = "blow-up";
+      break;
+    }
+    if (out.monitor_displacement > limit) {
+      out.failed = true;
+      out.reason = "displacement limit";
+      break;
+    }
+    const bool quiet = out.kinetic_ratio < s.kinetic_tolerance && rate < s.rate_tolerance;
+    if (!quiet || t - t0 < min_time) quiet_since = -1;
+    else if (quiet_since < 0) quiet_since = t;
+    if (quiet_since >= 0 && t - quiet_since >= window) {
+      out.reason = "equilibrium";
+      break;
+    }
+    if (t - t0 >= budget) {
+      out.failed = true;
+      out.reason = "step budget";
+      break;
+    }
+  }
+  out.steps = sim.steps - steps0;
+  out.simulated_time = sim.time - t0;
+  out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return out;
+}
+
+std::vector<Vec2> positions_in_model_order(const Simulation& sim) {
+  std::vector<Vec2> x(sim.particles.size());
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) x[sim.particles.id[p]] = sim.particles.x[p];
+  return x;
+}
+
+}  // namespace
+
+double elastic_period(const ReductionProblem& problem) {
+  double c_s = 0;
+  for (const auto& m : problem.model->materials) {
+    const double shear_modulus = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
+    c_s = std::max(c_s, std::sqrt(shear_modulus / m.density));
+  }
+  return 4 * problem.height / c_s;
+}
+
+void reduce_strength(Simulation& sim, const Model& model, double factor) {
+  for (std::size_t i = 0; i < model.materials.size(); ++i) {
+    const Material& m = model.materials[i];
+    if (m.model != MaterialModel::MohrCoulomb) continue;
+    const double phi = degrees(std::atan(std::tan(radians(m.friction_angle)) / factor));
+    const double psi = degrees(std::atan(std::tan(radians(m.dilation_angle)) / factor));
+    const double tension = m.tensile_strength < 0 ? m.tensile_strength : m.tensile_strength / factor;
+    sim.materials[i].mohr_coulomb =
+        MohrCoulombParams::from(m.youngs_modulus, m.poisson_ratio, phi, m.cohesion / factor, std::min(psi, phi), tension);
+  }
+}
+
+EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threads, std::ostream* log) {
+  const ReductionSettings& s = problem.settings;
+  const double period = elastic_period(problem);
+  EquilibriumState state;
+  for (double factor : {1.0, 0.5, 0.25, 0.125}) {
+    Simulation sim = make_simulation(*problem.model, threads);
+    sim.damping = s.damping;
+    sim.gravity_ramp = s.ramp * period;
+    reduce_strength(sim, *problem.model, factor);
+    EquilibriumAttempt attempt{factor, run_to_verdict(sim, problem, (s.ramp + s.min_time) * period,
+                                                      (s.ramp + s.budget) * period, s.window * period)};
+    attempt.outcome.factor = factor;
+    if (log)
+      *log << "equilibrium at F = " << factor << ": " << attempt.outcome.reason << " after "
+           << attempt.outcome.simulated_time << " s (" << attempt.outcome.steps << " steps, "
+           << attempt.outcome.seconds << " s wall)" << std::endl;
+    state.attempts.push_back(std::move(attempt));
+    if (!state.attempts.back().outcome.failed) {
+      state.sim = std::move(sim);
+      state.factor = factor;
+      state.fails_as_built = factor < 1;
+      return state;
+    }
+  }
+  throw Error("strength reduction: the slope reaches no equilibrium even with its strength raised 8 times");
+}
+
+TrialOutcome run_trial(const ReductionProblem& problem, const EquilibriumState& equilibrium, double factor) {
+  const ReductionSettings& s = problem.settings;
+  const double period = elastic_period(problem);
+  Simulation sim = equilibrium.sim;
+  reduce_strength(sim, *problem.model, factor);
+  TrialOutcome out = run_to_verdict(sim, problem, s.min_time * period, s.budget * period, s.window * period);
+  out.factor = factor;
+  if (out.failed) out.position = positions_in_model_order(sim);
+  return out;
+}
+
+std::vector<TrialOutcome> run_trials(const ReductionProblem& problem, const EquilibriumState& equilibrium,
+                                     const std::vector<double>& factors, int workers,
+                                     const std::function<void(const TrialOutcome&)>& progress) {
+  std::vector<TrialOutcome> outcomes(factors.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex lock;
+  std::exception_ptr error;
+  auto work = [&] {
+    omp_set_num_threads(1);  // one core per trial: the trials are the parallelism
+    for (std::size_t k; (k = next++) < factors.size();) {
+      try {
+        outcomes[k] = run_trial(problem, equilibrium, factors[k]);
+      } catch (...) {
+        std::lock_guard<std::mutex> guard(lock);
+        if (!error) error = std::current_exception();
+        continue;
+      }
+      std::lock_guard<std::mutex> guard(lock);
+      if (progress) progress(outcomes[k]);
+    }
+  };
+  std::vector<std::thread> threads;
+  const int count = std::max(1, std::min<int>(workers, static_cast<int>(factors.size())));
+  for (int t = 0; t < count; ++t) threads.emplace_back(work);
+  for (auto& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+  return outcomes;
+}
+
+}  // namespace talus::solver
