@@ -1,0 +1,136 @@
+"""Figures of the accuracy and stability benchmarks, from the CSVs the C++ programs write.
+
+    /usr/bin/python3 bench/plot_benchmarks.py accuracy OUT_DIR    bench_accuracy_*.png
+    /usr/bin/python3 bench/plot_benchmarks.py stability OUT_DIR   bench_stability_energy.png
+
+Needs Debian's python3-matplotlib (hence /usr/bin/python3). A missing CSV is skipped.
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+SCENE_TITLES = {
+    "spring_mass": "Spring and mass: max |y - y_exact| / A over two periods",
+    "box_incline": "Box on incline: max relative error at t = 0.25 ... 1 s",
+}
+MARKERS = {1: "v", 3: "^", 4: "o", 6: "s", 10: "D"}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def plot_error_against_time(rows, scene, path):
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    sizes = sorted({r["mesh_size_m"] for r in rows}, reverse=True)
+    colours = plt.cm.viridis([i / max(1, len(sizes) - 1) * 0.85 for i in range(len(sizes))])
+    for colour, size in zip(colours, sizes):
+        for ppc in sorted({int(r["particles_per_cell"]) for r in rows}):
+            sel = [r for r in rows if r["mesh_size_m"] == size and int(r["particles_per_cell"]) == ppc]
+            if not sel:
+                continue
+            ax.scatter([r["wall_seconds"] for r in sel], [100 * r["error"] for r in sel],
+                       color=colour, marker=MARKERS.get(ppc, "o"), s=[20 + 40 * r["cfl"] for r in sel],
+                       alpha=0.8, edgecolors="none")
+    front = sorted((r for r in rows if r["pareto"] == 1), key=lambda r: r["wall_seconds"])
+    ax.plot([r["wall_seconds"] for r in front], [100 * r["error"] for r in front], "-", color="crimson",
+            lw=1.5, zorder=0, label="Pareto front")
+    ax.scatter([r["wall_seconds"] for r in front], [100 * r["error"] for r in front], facecolors="none",
+               edgecolors="crimson", s=110, lw=1.2)
+    ax.axhline(1.0, color="grey", ls="--", lw=1, label="1% error")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time per run (s, meshing + solve, 1 thread)")
+    ax.set_ylabel("error (%)")
+    ax.set_title(SCENE_TITLES.get(scene, scene), fontsize=10)
+    # Legend: colour = element size, marker = particles per cell, marker size = CFL.
+    handles = [plt.Line2D([], [], ls="", marker="o", color=c, label=f"h = {s:g} m") for c, s in zip(colours, sizes)]
+    handles += [plt.Line2D([], [], ls="", marker=MARKERS.get(p, "o"), color="k", mfc="none", label=f"{p} per cell")
+                for p in sorted({int(r["particles_per_cell"]) for r in rows})]
+    handles += [plt.Line2D([], [], ls="", marker="o", color="k", ms=math.sqrt(20 + 40 * c), label=f"CFL {c:g}")
+                for c in sorted({r["cfl"] for r in rows})]
+    handles += ax.get_legend_handles_labels()[0]
+    ax.legend(handles=handles, fontsize=7, loc="best", ncol=2)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_slope(rows, path):
+    rows = sorted(rows, key=lambda r: r["mesh_size_m"])
+    h = [r["mesh_size_m"] for r in rows]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 4))
+    left.plot(h, [r["runout_m"] for r in rows], "o-", label="runout")
+    left.plot(h, [r["slip_circle_r_m"] for r in rows], "s-", label="slip circle radius")
+    left.set_xlabel("element size h (m)")
+    left.set_ylabel("m")
+    left.invert_xaxis()
+    left.legend(fontsize=8)
+    left.grid(alpha=0.3)
+    coarse = rows[1:]  # all but the finest (the reference)
+    for key, label, marker in (("runout_difference_to_finest_m", "runout", "o"),
+                               ("slip_radius_difference_to_finest_m", "slip circle radius", "s")):
+        pts = [(r["mesh_size_m"], r[key]) for r in coarse if r[key] > 0 and math.isfinite(r[key])]
+        if pts:
+            right.loglog([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=label)
+    right.set_xlabel("element size h (m)")
+    right.set_ylabel("|q_h - q_finest| (m)")
+    right.legend(fontsize=8)
+    right.grid(True, which="both", alpha=0.3)
+    fig.suptitle(f"Slope: convergence with element size (finest h = {rows[0]['mesh_size_m']:g} m)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_energy(rows, path):
+    fig, ax = plt.subplots(figsize=(7.5, 4))
+    t = [r["time_s"] for r in rows]
+    ax.plot(t, [r["relative_drift"] * 100 for r in rows], lw=0.8)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("(E(t) - E(0)) / max strain energy (%)")
+    ax.set_title("Spring and mass, 1e5 steps: drift of kinetic + potential + strain energy", fontsize=10)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 3 or sys.argv[1] not in ("accuracy", "stability"):
+        print(__doc__, file=sys.stderr)
+        return 1
+    what, out = sys.argv[1], sys.argv[2]
+    written = []
+    if what == "accuracy":
+        for scene in ("spring_mass", "box_incline"):
+            source = os.path.join(out, f"accuracy_{scene}.csv")
+            if os.path.exists(source):
+                rows = read_csv(source)
+                if rows:
+                    written.append(os.path.join(out, f"bench_accuracy_{scene}.png"))
+                    plot_error_against_time(rows, scene, written[-1])
+        source = os.path.join(out, "accuracy_slope.csv")
+        if os.path.exists(source) and len(read_csv(source)) >= 2:
+            written.append(os.path.join(out, "bench_accuracy_slope.png"))
+            plot_slope(read_csv(source), written[-1])
+    else:
+        source = os.path.join(out, "stability_energy.csv")
+        if os.path.exists(source):
+            written.append(os.path.join(out, "bench_stability_energy.png"))
+            plot_energy(read_csv(source), written[-1])
+    for path in written:
+        print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
