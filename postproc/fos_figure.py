@@ -19,22 +19,28 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
-def arc_inside(circle, outline_x, outline_y, samples=721):
-    """Points of the circle's lower half that lie under the body's outline top (the slip arc)."""
+def outline_top(outline, x):
+    """Height of the outline's highest edge over each x (NaN outside it): the ground surface."""
+    pts = np.array(outline)
+    a, b = pts, np.roll(pts, -1, axis=0)
+    top = np.full(len(x), np.nan)
+    for (x0, y0), (x1, y1) in zip(a, b):
+        if x1 == x0:
+            continue
+        t = (x - x0) / (x1 - x0)
+        inside = (t >= 0) & (t <= 1)
+        y = y0 + t * (y1 - y0)
+        top = np.where(inside & ~(y <= top), np.where(inside, y, top), top)
+    return top
+
+
+def arc_inside(circle, outline, samples=721):
+    """Points of the circle's lower half under the ground surface (the slip arc)."""
     theta = np.linspace(np.pi, 2 * np.pi, samples)
     x = circle["xc_m"] + circle["r_m"] * np.cos(theta)
     y = circle["yc_m"] + circle["r_m"] * np.sin(theta)
-    top = np.interp(x, outline_x, outline_y, left=np.nan, right=np.nan)
-    keep = y <= top + 1e-9
-    return x[keep], y[keep]
-
-
-def surface_of(outline):
-    """The upper boundary of the outline: for each x the highest y, x increasing."""
-    pts = np.array(outline)
-    xs = np.unique(pts[:, 0])
-    ys = np.array([pts[pts[:, 0] == x, 1].max() for x in xs])
-    return xs, ys
+    keep = y <= outline_top(outline, x) + 1e-9
+    return np.where(keep, x, np.nan), np.where(keep, y, np.nan)
 
 
 def main():
@@ -53,15 +59,14 @@ def main():
         data = np.loadtxt(particles, delimiter=",", skiprows=1, ndmin=2)
         sc = ax.scatter(data[:, 0], data[:, 1], c=data[:, 2], s=3, cmap="viridis", rasterized=True)
         fig.colorbar(sc, ax=ax, shrink=0.8, label=f"displacement at F = {fos['failing_factor']:.3f} (m)")
-    sx, sy = surface_of(fos["body_outline"])
     if fos.get("slip_surface"):
         line = np.array(fos["slip_surface"])
         ax.plot(line[:, 0], line[:, 1], color="crimson", lw=2.2, label="MPM slip surface (first failing F)")
     if fos.get("slip_circle"):
-        x, y = arc_inside(fos["slip_circle"], sx, sy)
+        x, y = arc_inside(fos["slip_circle"], fos["body_outline"])
         ax.plot(x, y, color="crimson", lw=1, ls="--", label="circle fitted to it")
     if fos.get("bishop_circle"):
-        x, y = arc_inside(fos["bishop_circle"], sx, sy)
+        x, y = arc_inside(fos["bishop_circle"], fos["body_outline"])
         ax.plot(x, y, color="darkorange", lw=1.8, ls=":", label=f"Bishop critical circle, F = {fos['bishop_fos']:.3f}")
     m = fos["monitoring_point"]
     ax.plot([m["x_m"]], [m["y_m"]], marker="*", ms=12, color="k", ls="none", label="monitoring point")
@@ -69,7 +74,7 @@ def main():
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(f"{fos['scene']}: F = {fos['factor_of_safety']:.3f} by strength reduction")
-    ax.legend(loc="lower left", fontsize=8, framealpha=0.9)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, fontsize=8)
 
     trials = fos["trials"]
     for failed, marker, colour, label in ((False, "o", "tab:green", "stable"), (True, "x", "tab:red", "failed")):

@@ -1,0 +1,186 @@
+// Factor of safety by shear strength reduction (solver/strength_reduction.hpp, `talus fos`):
+// the bracket search on a mocked trial function, Griffiths and Lane's (1999) example 1 against
+// its published factor, and a long shallow cohesionless slope against the infinite-slope value
+// tan(phi) / tan(beta).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solver/strength_reduction.hpp"
+#include "support/test_support.hpp"
+
+using namespace talus;
+using solver::SearchSettings;
+using solver::TrialOutcome;
+
+namespace {
+
+// A slope that fails exactly above `critical`; counts the trials it is asked for.
+struct MockSlope {
+  explicit MockSlope(double critical_factor) : critical(critical_factor) {}
+  double critical;
+  int trials = 0;
+  std::vector<int> batch_sizes;
+  std::vector<TrialOutcome> operator()(const std::vector<double>& factors) {
+    batch_sizes.push_back(static_cast<int>(factors.size()));
+    std::vector<TrialOutcome> out;
+    for (double f : factors) {
+      ++trials;
+      TrialOutcome o;
+      o.factor = f;
+      o.failed = f > critical;
+      o.reason = o.failed ? "displacement limit" : "equilibrium";
+      out.push_back(o);
+    }
+    return out;
+  }
+};
+
+solver::SearchResult search(MockSlope& slope, SearchSettings settings) {
+  return solver::search_factor_of_safety([&](const std::vector<double>& f) { return slope(f); }, settings);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The number after "key": in a JSON text (NaN when absent or null).
+double json_number(const std::string& text, const std::string& key) {
+  std::smatch match;
+  if (!std::regex_search(text, match, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return std::nan("");
+  return std::stod(match[1]);
+}
+
+}  // namespace
+
+TEST(FosSearch, TrisectionBracketsTheCriticalFactorAboveOne) {
+  MockSlope slope(1.2345);
+  SearchSettings settings;
+  settings.workers = 2;
+  const auto r = search(slope, settings);
+  EXPECT_LE(r.lower, 1.2345);
+  EXPECT_GT(r.upper, 1.2345);
+  EXPECT_LE(r.upper - r.lower, 0.01 + 1e-12);
+  EXPECT_NEAR(r.factor, 1.2345, 0.005 + 1e-12);
+  // Expansion 1.5, 2.25 (one round), then trisection of [1, 1.5]: 0.5 / 3^k <= 0.01 needs k = 4.
+  EXPECT_EQ(r.rounds, 5);
+  EXPECT_EQ(slope.trials, 10);
+  for (int size : slope.batch_sizes) EXPECT_EQ(size, 2);
+  ASSERT_GE(r.upper_trial, 0);
+  EXPECT_TRUE(r.trials[r.upper_trial].failed);
+  EXPECT_DOUBLE_EQ(r.trials[r.upper_trial].factor, r.upper);
+}
+
+TEST(FosSearch, OneWorkerIsBisection) {
+  MockSlope slope(1.2345);
+  SearchSettings settings;
+  settings.workers = 1;
+  settings.failed_factor = 2.0;
+  const auto r = search(slope, settings);
+  // [1, 2] halved until its width is <= 0.01: 2^-7 = 0.0078, seven trials.
+  EXPECT_EQ(slope.trials, 7);
+  EXPECT_NEAR(r.upper - r.lower, 1.0 / 128, 1e-12);
+  EXPECT_LE(r.lower, 1.2345);
+  EXPECT_GT(r.upper, 1.2345);
+}
+
+TEST(FosSearch, SlopeThatFailsAsBuiltIsSearchedBelowOne) {
+  MockSlope slope(0.7312);
+  SearchSettings settings;
+  settings.stable_factor = 0.5;  // the equilibrium was reached with the strength doubled
+  settings.failed_factor = 1.0;  // and not at F = 1
+  settings.tolerance = 0.001;
+  const auto r = search(slope, settings);
+  EXPECT_LT(r.factor, 1.0);
+  EXPECT_LE(r.lower, 0.7312);
+  EXPECT_GT(r.upper, 0.7312);
+  EXPECT_LE(r.upper - r.lower, 0.001 + 1e-12);
+  for (const auto& t : r.trials) EXPECT_TRUE(t.factor > 0.5 && t.factor < 1.0);
+}
+
+TEST(FosSearch, ExpandsUntilAFailureAndRejectsBadInput) {
+  MockSlope strong(7.0);
+  SearchSettings settings;
+  const auto r = search(strong, settings);
+  EXPECT_NEAR(r.factor, 7.0, 0.005 + 1e-12);
+
+  MockSlope never(1e9);
+  EXPECT_THROW(search(never, settings), Error);
+  settings.failed_factor = 0.9;  // at or below the stable factor
+  MockSlope any(1.0);
+  EXPECT_THROW(search(any, settings), Error);
+}
+
+// Griffiths, D. V. and Lane, P. A. (1999), "Slope stability analysis by finite elements",
+// Geotechnique 49(3):387-403, example 1 (geometries/griffiths_lane.toml): strength reduction
+// gives F = 1.4 (their first non-converged trial; 1.35 converged), the charts of Bishop and
+// Morgenstern (1960) 1.380. Default (coarse) resolution, within 5%.
+TEST(FosTextbook, GriffithsLaneExample1WithinFivePercent) {
+  talus::testing::ScratchDir dir("fos_griffiths_lane");
+  const auto run = talus::testing::run_talus("fos " + talus::testing::source_path("geometries/griffiths_lane.toml") + " --out " +
+                                      dir.path().string() + " --threads 2 --quiet");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const std::string json = read_text(dir.file("fos.json"));
+  const double factor = json_number(json, "factor_of_safety");
+  std::cout << "Griffiths and Lane example 1: F = " << factor << " (published 1.4, charts 1.380), Bishop "
+            << json_number(json, "bishop_fos") << "\n";
+  EXPECT_NEAR(factor, 1.4, 0.05 * 1.4) << json;
+  // The postproc's Bishop search on the same slope agrees with the charts.
+  EXPECT_NEAR(json_number(json, "bishop_fos"), 1.38, 0.05 * 1.38);
+  EXPECT_LE(json_number(json, "upper") - json_number(json, "lower"), 0.01 + 1e-9);
+  // A slip surface came out of the first failing trial, and the figure was drawn.
+  EXPECT_NE(json.find("\"slip_surface\": ["), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir.file("fos.png")));
+  EXPECT_EQ(json.find("\"fails_as_built\": true"), std::string::npos);
+}
+
+// A long shallow slope of beta = 20 deg with phi = 30 deg and a token cohesion (c / (gamma H)
+// = 0.0006, against the apex's zero stiffness at a stress-free surface): the critical slip is
+// shallow and parallel to the face, F -> tan(phi) / tan(beta) = 1.586.
+TEST(FosInfiniteSlope, ShallowCohesionlessSlopeApproachesTanPhiOverTanBeta) {
+  talus::testing::ScratchDir dir("fos_infinite_slope");
+  const double beta = 20.0, H = 4.0;
+  const double run = H / std::tan(beta * M_PI / 180);
+  {
+    std::ofstream geo(dir.file("infinite.geo"));
+    geo << "H = " << H << "; crest = 4; toe = crest + " << run << "; W = toe + 6; F = 1; D = F + H + 1.5;\n"
+        << "lc = 0.4;\n"
+           "Point(1) = {0, 0, 0, lc}; Point(2) = {W, 0, 0, lc}; Point(3) = {W, F, 0, lc};\n"
+           "Point(4) = {toe, F, 0, lc}; Point(5) = {crest, F + H, 0, lc}; Point(6) = {0, F + H, 0, lc};\n"
+           "Point(7) = {W, D, 0, lc}; Point(8) = {0, D, 0, lc};\n"
+           "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6};\n"
+           "Line(6) = {6, 1}; Line(7) = {3, 7}; Line(8) = {7, 8}; Line(9) = {8, 6};\n"
+           "Curve Loop(1) = {1, 2, 3, 4, 5, 6}; Plane Surface(1) = {1};\n"
+           "Curve Loop(2) = {-3, 7, 8, 9, -5, -4}; Plane Surface(2) = {2};\n"
+           "Physical Surface(\"domain\") = {1, 2}; Physical Surface(\"soil\") = {1};\n"
+           "Physical Curve(\"base\") = {1}; Physical Curve(\"left\") = {6, 9}; Physical Curve(\"right\") = {2, 7};\n";
+  }
+  {
+    std::ofstream toml(dir.file("infinite.toml"));
+    toml << "[scene]\nname = \"infinite\"\ngeometry = \"infinite.geo\"\n"
+            "[mesh]\nsize = 0.4\n"
+            "[run]\nend_time = 10.0\ncfl = 0.5\nevs = true\n"
+            "[materials.sand]\nmodel = \"mohr_coulomb\"\ndensity = 2000.0\nyoungs_modulus = 2.0e7\n"
+            "poisson_ratio = 0.3\nfriction_angle = 30.0\ncohesion = 50.0\ndilation_angle = 0.0\n"
+            "[bodies.soil]\nmaterial = \"sand\"\n"
+            "[boundaries.base]\ntype = \"fixed\"\n[boundaries.left]\ntype = \"roller\"\n"
+            "[boundaries.right]\ntype = \"roller\"\n"
+            "[post]\nmetrics = [\"bishop\"]\n";
+  }
+  const auto result = talus::testing::run_talus("fos " + dir.file("infinite.toml") + " --out " + dir.path().string() +
+                                         " --threads 2 --quiet --tolerance=0.02");
+  ASSERT_EQ(result.status, 0) << result.output;
+  const std::string json = read_text(dir.file("fos.json"));
+  const double expected = std::tan(30 * M_PI / 180) / std::tan(beta * M_PI / 180);
+  std::cout << "infinite slope: F = " << json_number(json, "factor_of_safety") << ", tan(phi)/tan(beta) = " << expected
+            << ", Bishop " << json_number(json, "bishop_fos") << "\n";
+  EXPECT_NEAR(json_number(json, "factor_of_safety"), expected, 0.10 * expected) << json;
+}
