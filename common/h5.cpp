@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 
 #include "common/error.hpp"
@@ -45,13 +46,36 @@ void write_numbers(const File& file, const std::string& path, const std::vector<
     fail(file, path, "cannot write dataset");
 }
 
+// A damaged or hostile file can declare a dataset of any size. Talus writes its datasets
+// uncompressed, so a dataset that would not fit in the file itself is refused before anything
+// is allocated for it (instead of an allocation failure, or a read past the end of the file).
+hsize_t checked_count(const File& file, const std::string& path, const Dims& dims, hid_t dataset) {
+  hsize_t count = 1;
+  for (hsize_t d : dims) {
+    if (d != 0 && count > std::numeric_limits<hsize_t>::max() / d) fail(file, path, "dataset shape overflows");
+    count *= d;
+  }
+  Handle type(H5Dget_type(dataset));
+  const std::size_t element = type.valid() ? std::max<std::size_t>(H5Tget_size(type.id()), 1) : 1;
+  std::error_code error;
+  const std::uintmax_t bytes = std::filesystem::file_size(file.path(), error);
+  if (!error && count > 0 && count > bytes / element)
+    fail(file, path,
+         "dataset of " + std::to_string(count) + " values is larger than the file (" + std::to_string(bytes) +
+             " bytes): truncated or damaged");
+  return count;
+}
+
 template <class T>
 std::vector<T> read_numbers(const File& file, const std::string& path, Dims* dims, hid_t type) {
   if (!exists(file, path)) fail(file, path, "missing dataset");
   Dims local = shape(file, path);
-  const hsize_t count = std::accumulate(local.begin(), local.end(), hsize_t{1}, std::multiplies<>());
-  std::vector<T> data(count);
   Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
+  Handle file_type(H5Dget_type(dataset.id()));
+  const H5T_class_t kind = file_type.valid() ? H5Tget_class(file_type.id()) : H5T_NO_CLASS;
+  if (kind != H5T_INTEGER && kind != H5T_FLOAT) fail(file, path, "expected numbers");
+  const hsize_t count = checked_count(file, path, local, dataset.id());
+  std::vector<T> data(count);
   if (count > 0 && H5Dread(dataset.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     fail(file, path, "cannot read dataset (truncated or of the wrong type)");
   if (dims) *dims = local;
@@ -198,7 +222,8 @@ std::vector<std::string> read_strings(const File& file, const std::string& path)
   H5Tset_cset(type.id(), H5Tget_cset(file_type.id()));
   if (H5Tis_variable_str(file_type.id()) <= 0) fail(file, path, "expected variable-length strings");
   const Dims dims = shape(file, path);
-  const hsize_t count = dims.empty() ? 1 : dims[0];
+  if (dims.size() > 1) fail(file, path, "expected a list of strings");
+  const hsize_t count = dims.empty() ? 1 : checked_count(file, path, dims, dataset.id());
   std::vector<char*> pointers(count, nullptr);
   if (count > 0 && H5Dread(dataset.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0)
     fail(file, path, "cannot read strings");
@@ -334,6 +359,27 @@ void Appendable::append(const void* records, hsize_t rows) {
   if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
     throw Error(where_ + ": cannot write record");
   count_ += rows;
+}
+
+Appendable Appendable::reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
+                              hid_t type) {
+  Appendable appendable;
+  appendable.record_ = record;
+  appendable.type_ = type;
+  appendable.where_ = file.path() + ": " + path;
+  if (!exists(file, path)) fail(file, path, "missing dataset");
+  const Dims dims = shape(file, path);
+  Dims expected{dims.empty() ? 0 : dims[0]};
+  expected.insert(expected.end(), record.begin(), record.end());
+  if (dims != expected) fail(file, path, "unexpected shape");
+  if (dims[0] < keep)
+    fail(file, path, "has " + std::to_string(dims[0]) + " records, fewer than the " + std::to_string(keep) + " expected");
+  appendable.dataset_ = Handle(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
+  Dims cut = expected;
+  cut[0] = keep;
+  if (H5Dset_extent(appendable.dataset_.id(), cut.data()) < 0) fail(file, path, "cannot truncate dataset");
+  appendable.count_ = keep;
+  return appendable;
 }
 
 }  // namespace talus::h5

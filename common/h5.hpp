@@ -83,6 +83,11 @@ class Appendable {
   // chunk_rows: records per HDF5 chunk (1 for large records such as frames, more for small ones).
   Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE,
              hsize_t chunk_rows = 1);
+  // An existing appendable dataset of `file` (opened for writing), cut back to its first
+  // `keep` records so that appending continues from there. Throws talus::Error when the
+  // dataset is missing, of another record shape, or shorter than `keep`.
+  static Appendable reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
+                           hid_t type = H5T_NATIVE_DOUBLE);
   void append(const void* records, hsize_t rows = 1);
   hsize_t size() const { return count_; }
 

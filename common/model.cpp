@@ -11,15 +11,6 @@ namespace talus {
 namespace {
 
 template <class Vec>
-std::vector<double> flatten(const std::vector<Vec>& rows) {
-  std::vector<double> flat;
-  flat.reserve(rows.size() * Vec::RowsAtCompileTime);
-  for (const auto& row : rows)
-    for (int k = 0; k < Vec::RowsAtCompileTime; ++k) flat.push_back(row[k]);
-  return flat;
-}
-
-template <class Vec>
 std::vector<Vec> unflatten(const std::vector<double>& flat, const h5::Dims& dims, const h5::File& file,
                            const std::string& path, std::size_t rows) {
   constexpr int width = Vec::RowsAtCompileTime;
@@ -178,8 +169,14 @@ void read_metadata(const h5::File& file, Model& model) {
     m.cohesion = h5::get_double(file, group, "cohesion");
     m.dilation_angle = h5::get_double(file, group, "dilation_angle");
     m.tensile_strength = h5::get_double(file, group, "tensile_strength");
-    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5))
+    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5) ||
+        !std::isfinite(m.density) || !std::isfinite(m.youngs_modulus))
       throw Error(located(file.path(), group, "density, youngs_modulus or poisson_ratio out of range"));
+    if (!(m.friction_angle >= 0 && m.friction_angle < 90) || !(m.cohesion >= 0) || !std::isfinite(m.cohesion) ||
+        !(m.dilation_angle >= 0 && m.dilation_angle <= m.friction_angle) || std::isnan(m.tensile_strength) ||
+        std::isinf(m.tensile_strength))
+      throw Error(located(file.path(), group,
+                          "friction_angle, cohesion, dilation_angle or tensile_strength out of range"));
     model.materials.push_back(m);
   }
   for (const auto& body : model.bodies)
@@ -203,18 +200,26 @@ void read_metadata(const h5::File& file, Model& model) {
   run.max_steps = h5::get_int(file, "settings/run", "max_steps");
   if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
       !(run.pic_fraction >= 0 && run.pic_fraction <= 1) || !(run.gravity_ramp >= 0) ||
-      !std::isfinite(run.gravity.norm()) || run.history_interval < 1)
+      !std::isfinite(run.gravity.norm()) || run.history_interval < 1 || !std::isfinite(run.end_time) ||
+      !std::isfinite(run.output_interval) || !std::isfinite(run.gravity_ramp) ||
+      !(run.damping >= 0 && run.damping < 1) || !(run.rest_ratio >= 0 && run.rest_ratio < 1) ||
+      !(run.rest_window > 0) || run.max_steps < 0)
     throw Error(located(file.path(), "settings/run", "run settings out of range"));
 
   model.contact.enabled = h5::get_int(file, "settings/contact", "enabled") != 0;
   model.contact.friction = h5::get_double(file, "settings/contact", "friction");
+  if (!(model.contact.friction >= 0) || !std::isfinite(model.contact.friction))
+    throw Error(located(file.path(), "settings/contact@friction", "expected a finite number >= 0"));
   const auto pair_names = h5::read_strings(file, "settings/contact/pair_bodies");
   const auto pair_friction = h5::read_doubles(file, "settings/contact/pair_friction");
   if (pair_names.size() != 2 * pair_friction.size())
     throw Error(located(file.path(), "settings/contact", "pair_bodies and pair_friction disagree"));
   model.contact.pairs.clear();
-  for (std::size_t i = 0; i < pair_friction.size(); ++i)
+  for (std::size_t i = 0; i < pair_friction.size(); ++i) {
+    if (!(pair_friction[i] >= 0) || !std::isfinite(pair_friction[i]))
+      throw Error(located(file.path(), "settings/contact/pair_friction", "expected finite numbers >= 0"));
     model.contact.pairs.push_back({pair_names[2 * i], pair_names[2 * i + 1], pair_friction[i]});
+  }
 
   PostSettings& post = model.post;
   post.metrics = h5::read_strings(file, "settings/post/metrics");
@@ -287,11 +292,10 @@ Model read_model(const std::string& path) {
     return out;
   };
   model.triangles = read_triples("mesh/triangles", 0, node_count);
+  if (model.triangles.empty()) throw Error(located(path, "mesh/triangles", "the mesh has no triangles"));
   model.neighbours = read_triples("mesh/neighbours", -1, static_cast<int32_t>(model.triangles.size()));
   if (model.neighbours.size() != model.triangles.size())
     throw Error(located(path, "mesh/neighbours", "expected one row per triangle"));
-
-  for (const auto& name : h5::list(file, "mesh/node_sets")) model.node_sets[name] = h5::read_ints(file, "mesh/node_sets/" + name);
 
   auto read_node_list = [&](const std::string& where) {
     auto list = h5::read_ints(file, where);
@@ -299,6 +303,7 @@ Model read_model(const std::string& path) {
       if (v < 0 || v >= node_count) throw Error(located(path, where, "node index out of range"));
     return list;
   };
+  for (const auto& name : h5::list(file, "mesh/node_sets")) model.node_sets[name] = read_node_list("mesh/node_sets/" + name);
   model.fixed_nodes = read_node_list("boundary_conditions/fixed_nodes");
   model.roller_nodes = read_node_list("boundary_conditions/roller_nodes");
   auto normals = h5::read_doubles(file, "boundary_conditions/roller_normals", &dims);
@@ -308,6 +313,7 @@ Model read_model(const std::string& path) {
 
   auto positions = h5::read_doubles(file, "particles/position", &dims);
   const std::size_t n = dims.empty() ? 0 : dims[0];
+  if (n == 0) throw Error(located(path, "particles/position", "the model has no particles"));
   check_finite(file, "particles/position", positions);
   model.position = unflatten<Eigen::Vector2d>(positions, dims, file, "particles/position", n);
   auto velocities = h5::read_doubles(file, "particles/velocity", &dims);

@@ -3,11 +3,22 @@
 // postprocessor needs only results.h5.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "common/h5.hpp"
 #include "common/model.hpp"
 
 namespace talus {
+
+// Rows of a fixed-size Eigen vector type as one row-major array, for an [N, width] dataset.
+template <class Vec>
+std::vector<double> flatten(const std::vector<Vec>& rows) {
+  std::vector<double> flat;
+  flat.reserve(rows.size() * Vec::RowsAtCompileTime);
+  for (const auto& row : rows)
+    for (int k = 0; k < Vec::RowsAtCompileTime; ++k) flat.push_back(row[k]);
+  return flat;
+}
 
 inline constexpr int kResultsFormatVersion = 1;
 

@@ -1,6 +1,7 @@
 #include "common/scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -92,8 +93,9 @@ class TableReader {
 
   bool boolean(const std::string& key, bool fallback) {
     if (!has(key)) return fallback;
+    // value<bool>() would take an integer too: 1 is not true here.
     const auto value = (*table_)[key].value<bool>();
-    if (!value) fail(key, "expected true or false");
+    if (!value || !(*table_)[key].is_boolean()) fail(key, "expected true or false");
     return *value;
   }
 
@@ -180,7 +182,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file,
                     std::set<std::string>& overridden) {
   const auto equals = assignment.find('=');
-  if (equals == std::string::npos || equals == 0)
+  if (equals == std::string::npos || equals == 0 || assignment[equals - 1] == '.')
     throw Error(located(file, "--set " + assignment, "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
   const std::string key = assignment.substr(0, equals);
   const std::string value_text = assignment.substr(equals + 1);
@@ -208,12 +210,28 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
     table = node->as_table();
     if (!table) throw Error(located(file, "--set " + assignment, "'" + path + "' is not a table"));
   }
-  table->insert_or_assign(parts.back(), *parsed.get("value"));
+  const toml::node* value = parsed.get("value");
+  if (!value) throw Error(located(file, "--set " + assignment, "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
+  table->insert_or_assign(parts.back(), *value);
   overridden.insert(key);
+}
+
+// Body and material names become HDF5 group names (bodies/NAME, materials/NAME) beside the
+// list of names itself: keep them to plain words.
+void check_name(const std::string& name, const std::string& item, const std::string& file) {
+  const bool plain = !name.empty() && name.size() <= 64 && name != "names" &&
+                     std::all_of(name.begin(), name.end(), [](unsigned char c) {
+                       return std::isalnum(c) || c == '_' || c == '-';
+                     });
+  if (!plain)
+    throw Error(located(file, item,
+                        "expected a name of letters, digits, '_' or '-' (at most 64, and not 'names'), got '" +
+                            name + "'"));
 }
 
 Material read_material(const std::string& name, const toml::table* table, const std::string& file,
                        const std::set<std::string>& overridden) {
+  check_name(name, "materials." + name, file);
   TableReader r(table, "materials." + name, file, overridden);
   Material m;
   m.name = name;
@@ -316,6 +334,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   for (const auto& [key, node] : *bodies) {
     const std::string name(key.str());
     if (!node.as_table()) top.fail("bodies." + name, "expected a table");
+    check_name(name, "bodies." + name, path);
     TableReader r(node.as_table(), "bodies." + name, path, overridden);
     Body b;
     b.name = name;

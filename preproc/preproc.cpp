@@ -16,6 +16,7 @@
 #include "common/error.hpp"
 #include "preproc/background_mesh.hpp"
 #include "preproc/boundary_conditions.hpp"
+#include "preproc/estimate.hpp"
 #include "preproc/gmsh_geometry.hpp"
 #include "preproc/polygon.hpp"
 #include "preproc/seeding.hpp"
@@ -159,6 +160,8 @@ Eigen::Vector4d geostatic_stress(const InitialStress& initial, double surface, d
 Model build_model(const Scene& scene, MeshReport* report) {
   const Clock::time_point start = Clock::now();
   if (scene.bodies.empty()) throw Error(located(scene.path, "bodies", "the scene has no bodies"));
+
+  check_size(scene);  // before gmsh meshes: refuse a mesh too large for memory or too coarse for a body
 
   // 1. Mesh.
   const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path);

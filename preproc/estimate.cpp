@@ -1,0 +1,186 @@
+#include "preproc/estimate.hpp"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include "common/error.hpp"
+
+namespace talus::preproc {
+namespace {
+
+constexpr double kBytesPerParticle = 500, kBytesPerNode = 200, kBytesPerTriangle = 150;
+constexpr int kSamplesPerCurve = 64;
+
+// gmsh's global state for the estimate only, closed on every way out.
+struct GmshReader {
+  GmshReader() {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+  }
+  ~GmshReader() { gmsh::finalize(); }
+  GmshReader(const GmshReader&) = delete;
+  GmshReader& operator=(const GmshReader&) = delete;
+};
+
+// Points along a curve, from its start to its end.
+std::vector<Eigen::Vector2d> sample_curve(int tag) {
+  std::vector<double> low, high;
+  gmsh::model::getParametrizationBounds(1, tag, low, high);
+  std::vector<double> parameters(kSamplesPerCurve + 1), xyz;
+  for (int k = 0; k <= kSamplesPerCurve; ++k) parameters[k] = low[0] + (high[0] - low[0]) * k / kSamplesPerCurve;
+  gmsh::model::getValue(1, tag, parameters, xyz);
+  std::vector<Eigen::Vector2d> points;
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) points.emplace_back(xyz[i], xyz[i + 1]);
+  return points;
+}
+
+// The area of a surface from its oriented boundary curves (holes count negative): the
+// shoelace sum over the sampled edges of every curve, each in the direction the surface uses.
+double surface_area(int tag) {
+  gmsh::vectorpair boundary;
+  gmsh::model::getBoundary({{2, tag}}, boundary, false, true, false);
+  double twice = 0;
+  for (const auto& [dim, signed_tag] : boundary) {
+    std::vector<Eigen::Vector2d> points = sample_curve(std::abs(signed_tag));
+    if (signed_tag < 0) std::reverse(points.begin(), points.end());
+    for (std::size_t i = 0; i + 1 < points.size(); ++i)
+      twice += points[i].x() * points[i + 1].y() - points[i + 1].x() * points[i].y();
+  }
+  return std::abs(0.5 * twice);
+}
+
+double curve_length(int tag) {
+  const auto points = sample_curve(tag);
+  double length = 0;
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) length += (points[i + 1] - points[i]).norm();
+  return length;
+}
+
+// The entities of the named physical group of dimension dim (empty when there is none).
+std::vector<int> group_entities(const std::string& name, int dim) {
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, dim);
+  for (const auto& [d, tag] : groups) {
+    std::string group_name;
+    gmsh::model::getPhysicalName(d, tag, group_name);
+    if (group_name != name) continue;
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(d, tag, entities);
+    return entities;
+  }
+  return {};
+}
+
+double body_area(const std::string& group) {
+  double area = 0;
+  for (int surface : group_entities(group, 2)) area += surface_area(surface);
+  if (area > 0) return area;
+  // A closed physical curve: its bounding box.
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (int curve : group_entities(group, 1))
+    for (const auto& p : sample_curve(curve)) {
+      x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
+      y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+    }
+  return x1 > x0 && y1 > y0 ? (x1 - x0) * (y1 - y0) : 0;
+}
+
+// The mean edge length of gmsh's 1D mesh of the domain's boundary, with the .geo's own sizes.
+double boundary_element_size(const std::vector<int>& domain) {
+  gmsh::model::mesh::generate(1);
+  double length = 0, segments = 0;
+  for (int surface : domain) {
+    gmsh::vectorpair boundary;
+    gmsh::model::getBoundary({{2, surface}}, boundary, false, false, false);
+    for (const auto& [dim, tag] : boundary) {
+      std::vector<std::size_t> nodes;
+      std::vector<double> xyz, parametric;
+      gmsh::model::mesh::getNodes(nodes, xyz, parametric, 1, std::abs(tag), true, false);
+      if (nodes.size() < 2) continue;
+      length += curve_length(std::abs(tag));
+      segments += static_cast<double>(nodes.size() - 1);
+    }
+  }
+  return segments > 0 ? length / segments : 0;
+}
+
+double available_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kilobytes = 0;
+  std::string unit;
+  while (meminfo >> key >> kilobytes >> unit)
+    if (key == "MemAvailable:") return kilobytes * 1024;
+  return INFINITY;  // unknown: no refusal on memory
+}
+
+std::string number(double x, int digits = 3) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+SizeEstimate estimate_size(const Scene& scene) {
+  SizeEstimate estimate;
+  std::ifstream probe(scene.geometry);
+  if (!probe) return estimate;  // the meshing reports the missing file
+  try {
+    GmshReader reader;
+    gmsh::open(scene.geometry);
+    const std::vector<int> domain = group_entities(scene.mesh.domain, 2);
+    if (domain.empty()) return estimate;
+    for (int surface : domain) estimate.domain_area += surface_area(surface);
+    for (const auto& body : scene.bodies) estimate.body_areas.push_back(body_area(body.group));
+    estimate.element_size = scene.mesh.size ? *scene.mesh.size : boundary_element_size(domain);
+  } catch (...) {  // gmsh 4.8 throws strings; whatever it is, the meshing reports it
+    return estimate;
+  }
+  const double h = estimate.element_size;
+  if (!(h > 0) || !(estimate.domain_area > 0) || !std::isfinite(h)) return estimate;
+  estimate.known = true;
+  estimate.element_area = std::sqrt(3.0) / 4 * h * h;
+  estimate.triangles = estimate.domain_area / estimate.element_area;
+  estimate.nodes = estimate.triangles / 2;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    estimate.particles += scene.bodies[b].particles_per_cell *
+                          std::min(estimate.body_areas[b], estimate.domain_area) / estimate.element_area;
+  estimate.bytes = kBytesPerParticle * estimate.particles + kBytesPerNode * estimate.nodes +
+                   kBytesPerTriangle * estimate.triangles;
+  return estimate;
+}
+
+void check_size(const Scene& scene) {
+  const SizeEstimate e = estimate_size(scene);
+  if (!e.known) return;
+  const std::string size_item = scene.mesh.size ? "mesh.size" : "the element sizes of " + scene.geometry;
+  const double available = available_bytes();
+  if (e.bytes > available)
+    throw Error(located(scene.path, size_item,
+                        "an element size of " + number(e.element_size) + " m over the domain's " +
+                            number(e.domain_area) + " m^2 gives about " + number(e.triangles) + " triangles and " +
+                            number(e.particles) + " particles, about " + number(e.bytes / 1e9) +
+                            " GB to solve (500 B per particle, 200 B per node, 150 B per triangle), more than the " +
+                            number(available / 1e9) + " GB of MemAvailable: raise mesh.size"));
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    const Body& body = scene.bodies[b];
+    const double area = e.body_areas[b];
+    if (area <= 0) continue;  // the meshing names the missing group
+    if (body.particles_per_cell * area < e.element_area)
+      throw Error(located(scene.path, "bodies." + body.name,
+                          "the mesh is too coarse for the body: its area, " + number(area) +
+                              " m^2, is less than one element's (" + number(e.element_area) + " m^2 for h = " +
+                              number(e.element_size) + " m) over particles_per_cell = " +
+                              std::to_string(body.particles_per_cell) +
+                              ", so it would get no particle (lower mesh.size or raise particles_per_cell)"));
+  }
+}
+
+}  // namespace talus::preproc
