@@ -1,5 +1,7 @@
 #include "app/cli.hpp"
 
+#include <cmath>
+
 #include "common/error.hpp"
 
 namespace talus::cli {
@@ -28,7 +30,20 @@ Arguments parse(int argc, char** argv) {
         args.threads = -1;
       }
       if (args.threads < 1) throw Error("--threads: expected a positive integer, got '" + text + "'");
-    } else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
+    } else if (name == "--checkpoint-interval") {
+      const std::string text = value_of(i, name);
+      std::size_t used = 0;
+      double value = -1;
+      try {
+        value = std::stod(text, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used != text.size() || !std::isfinite(value) || value < 0)
+        throw Error("--checkpoint-interval: expected a time >= 0 in seconds of simulated time, got '" + text + "'");
+      args.checkpoint_interval = value;
+    } else if (word == "--restart") args.restart = true;
+    else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
     else if (args.command.empty()) args.command = word;
     else args.positional.push_back(word);
   }

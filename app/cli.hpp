@@ -15,6 +15,8 @@ struct Arguments {
   bool quiet = false;                  // --quiet
   bool help = false;                   // --help / -h
   int threads = 0;                     // --threads N (0: all cores)
+  std::optional<double> checkpoint_interval;  // --checkpoint-interval T (s of simulated time)
+  bool restart = false;                       // --restart
   std::vector<std::string> flags;      // other --name[=value] options, for subcommands
 };
 

@@ -28,8 +28,10 @@ Usage:
   talus mesh  SCENE.toml [--set KEY=VALUE]... [--out DIR]
         Mesh the scene's .geo with gmsh, seed particles, write DIR/model.h5.
   talus solve MODEL.h5 [--out DIR] [--threads N] [--quiet]
+              [--checkpoint-interval T] [--restart]
         Run the explicit MPM time loop; write DIR/results.h5 and results.xdmf
-        (default DIR: the model's folder).
+        (default DIR: the model's folder). Ctrl-C or SIGTERM stops after the
+        current step with a checkpoint (DIR/checkpoint.h5) and the frames so far.
   talus post  RESULTS.h5 [--out DIR]
         Runout, failure surface, Bishop's factor of safety or the validation
         comparison (as the scene's [post] asks): metrics.json, CSV, PNG figures
@@ -46,9 +48,16 @@ Options:
   --out DIR         output folder (default out/<scene name>/)
   --quiet, -q       no progress output
   --threads N       OpenMP threads for the solver (default: all cores)
+  --checkpoint-interval T
+                    solve, run: write DIR/checkpoint.h5 every T s of simulated
+                    time (default 0: only when interrupted)
+  --restart         solve, run: continue from DIR/checkpoint.h5 and
+                    DIR/results.h5; with --threads 1 the frames are the same,
+                    bit for bit, as those of an uninterrupted run
   --help, -h        this text
 
-Exit status: 0 on success, 1 on bad input or a failed run.
+Exit status: 0 on success, 1 on bad input or a failed run, 2 on an internal
+error, 130 when stopped by SIGINT (Ctrl-C), 143 when stopped by SIGTERM.
 )";
 
 std::string output_folder(const cli::Arguments& args, const Scene& scene) {
@@ -83,6 +92,8 @@ void solve_stage(const std::string& model_path, const std::string& folder, const
   options.out_dir = folder;
   options.progress = !args.quiet;
   options.threads = args.threads;
+  options.checkpoint_interval = args.checkpoint_interval.value_or(0);
+  options.restart = args.restart;
   std::ostringstream discarded;
   const solver::SolveSummary summary =
       solver::solve(model, options, args.quiet ? static_cast<std::ostream&>(discarded) : std::cout);
@@ -119,7 +130,7 @@ int run_pipeline(const Scene& scene, const std::string& folder, const cli::Argum
     mesh_stage(scene, folder, args.quiet);
     stamps::record(folder, "mesh", mesh_inputs);
   }
-  if (!up_to_date("solve", solve_inputs, out / "results.h5")) {
+  if (args.restart || !up_to_date("solve", solve_inputs, out / "results.h5")) {
     solve_stage((out / "model.h5").string(), folder, args);
     stamps::record(folder, "solve", solve_inputs);
   }
@@ -131,6 +142,14 @@ int run_pipeline(const Scene& scene, const std::string& folder, const cli::Argum
   return 0;
 }
 
+// The options a stage does not know are mistakes, not silently ignored.
+void reject_unknown_options(const cli::Arguments& args, bool solves) {
+  if (!args.flags.empty())
+    throw Error("unknown option '" + args.flags.front() + "' for talus " + args.command + " (see talus --help)");
+  if (!solves && (args.restart || args.checkpoint_interval))
+    throw Error("--checkpoint-interval and --restart belong to solve or run, not " + args.command);
+}
+
 int run_command(const cli::Arguments& args) {
   if (args.help || args.command.empty() || args.command == "help") {
     std::cout << kUsage;
@@ -140,6 +159,8 @@ int run_command(const cli::Arguments& args) {
     std::cout << "talus " << TALUS_VERSION << "\n";
     return 0;
   }
+  if (args.command == "mesh" || args.command == "solve" || args.command == "post" || args.command == "run")
+    reject_unknown_options(args, args.command == "solve" || args.command == "run");
   if (args.command == "mesh") {
     const Scene scene = load_scene(require_input(args, "scene file"), args.overrides);
     const std::string folder = output_folder(args, scene);
@@ -183,6 +204,9 @@ int main(int argc, char** argv) {
   } catch (const Error& e) {
     std::cerr << "talus: error: " << e.what() << "\n";
     return 1;
+  } catch (const solver::Interrupted& e) {
+    std::cerr << "talus: " << e.what() << "\n";
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::cerr << "talus: internal error: " << e.what() << "\n";
     return 2;

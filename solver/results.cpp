@@ -23,21 +23,69 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
   h5::write(file_, "particles/body", model.body, {n});
   h5::write(file_, "particles/mass", model.mass, {n});
   h5::write(file_, "particles/volume", model.volume, {n});
-  time_set_ = h5::Appendable(file_, "frames/time", {}, H5T_NATIVE_DOUBLE, 256);
-  position_ = h5::Appendable(file_, "frames/position", {n, 2});
-  velocity_ = h5::Appendable(file_, "frames/velocity", {n, 2});
-  stress_ = h5::Appendable(file_, "frames/stress", {n, 4});
-  plastic_strain_ = h5::Appendable(file_, "frames/plastic_strain", {n});
-  history_time_ = h5::Appendable(file_, "history/time", {}, H5T_NATIVE_DOUBLE, 1024);
-  history_kinetic_ = h5::Appendable(file_, "history/kinetic_energy", {}, H5T_NATIVE_DOUBLE, 1024);
-  history_potential_ = h5::Appendable(file_, "history/potential_energy", {}, H5T_NATIVE_DOUBLE, 1024);
-  history_strain_ = h5::Appendable(file_, "history/strain_energy", {}, H5T_NATIVE_DOUBLE, 1024);
-  history_particle_kinetic_ = h5::Appendable(file_, "history/particle_kinetic_energy", {}, H5T_NATIVE_DOUBLE, 1024);
+  open_datasets(0, 0, true);
   h5::set_attribute(file_, "/", "particles", static_cast<int64_t>(n));
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
   h5::set_attribute(file_, "/", "loop_seconds", 0.0);
   h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
   file_.flush();
+}
+
+namespace {
+
+h5::File open_existing(const std::string& path) {
+  if (!std::filesystem::exists(path))
+    throw Error(located(path, "", "no results to continue (was the interrupted run written to this folder?)"));
+  h5::File file = h5::File::open_write(path);
+  check_format_tag(file, "talus-results", kResultsFormatVersion);
+  return file;
+}
+
+}  // namespace
+
+ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, const ResultsPosition& resume)
+    : path_((std::filesystem::path(out_dir) / "results.h5").string()),
+      xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
+      particles_(model.particle_count()),
+      file_(open_existing(path_)) {
+  if (h5::get_int(file_, "/", "particles") != static_cast<int64_t>(particles_))
+    throw Error(located(path_, "particles", "written for a model of another particle count"));
+  if (resume.frames < 1 || resume.history_rows < 0)
+    throw Error(located(path_, "", "the checkpoint records no frame to continue from"));
+  open_datasets(static_cast<hsize_t>(resume.frames), static_cast<hsize_t>(resume.history_rows), false);
+  std::vector<double> times = h5::read_doubles(file_, "frames/time");
+  time_.assign(times.begin(), times.begin() + resume.frames);
+  h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
+  file_.flush();
+  write_xdmf();
+}
+
+void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fresh) {
+  const hsize_t n = particles_;
+  auto frame_set = [&](const char* path, const h5::Dims& record, hsize_t chunk) {
+    return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk)
+                 : h5::Appendable::reopen(file_, path, record, frames);
+  };
+  auto history_set = [&](const char* path) {
+    return fresh ? h5::Appendable(file_, path, {}, H5T_NATIVE_DOUBLE, 1024)
+                 : h5::Appendable::reopen(file_, path, {}, history_rows);
+  };
+  time_set_ = frame_set("frames/time", {}, 256);
+  position_ = frame_set("frames/position", {n, 2}, 1);
+  velocity_ = frame_set("frames/velocity", {n, 2}, 1);
+  stress_ = frame_set("frames/stress", {n, 4}, 1);
+  plastic_strain_ = frame_set("frames/plastic_strain", {n}, 1);
+  history_time_ = history_set("history/time");
+  history_kinetic_ = history_set("history/kinetic_energy");
+  history_potential_ = history_set("history/potential_energy");
+  history_strain_ = history_set("history/strain_energy");
+  history_particle_kinetic_ = history_set("history/particle_kinetic_energy");
+}
+
+ResultsPosition ResultsWriter::sync() {
+  flush_history();
+  file_.flush();
+  return {frames(), static_cast<long>(history_time_.size())};
 }
 
 void ResultsWriter::write_frame(const Simulation& sim) {

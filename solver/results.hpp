@@ -10,9 +10,23 @@
 
 namespace talus::solver {
 
+// How far a results.h5 has been written: what a checkpoint records, and a restart keeps.
+struct ResultsPosition {
+  long frames = 0;
+  long history_rows = 0;
+};
+
 class ResultsWriter {
  public:
+  // Starts a new results.h5 (replacing any old one).
   ResultsWriter(const std::string& out_dir, const Model& model);
+  // Continues the results.h5 of an interrupted run of `model`: keeps its first `resume.frames`
+  // frames and `resume.history_rows` history rows, drops anything written after them, and
+  // marks the file incomplete until finish(). Throws talus::Error when the file is missing or
+  // belongs to another model.
+  ResultsWriter(const std::string& out_dir, const Model& model, const ResultsPosition& resume);
+  // Writes the pending history and flushes: everything recorded so far is in the file.
+  ResultsPosition sync();
   void write_frame(const Simulation& sim);
   void record_history(const Simulation& sim, const Energies& energy);
   // Writes the pending history and the run's root attributes (complete = 1 for a run that
@@ -24,6 +38,7 @@ class ResultsWriter {
  private:
   void flush_history();
   void write_xdmf() const;
+  void open_datasets(hsize_t frames, hsize_t history_rows, bool fresh);
 
   std::string path_, xdmf_path_;
   std::size_t particles_;

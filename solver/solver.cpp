@@ -5,12 +5,17 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <optional>
 #include <iomanip>
 #include <ostream>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solver/checkpoint.hpp"
 #include "solver/results.hpp"
 #include "solver/simulation.hpp"
 
@@ -67,38 +72,86 @@ class Progress {
   Clock::time_point last_{};
 };
 
+// The signal that asked the run to stop (0: none). Set by the handler, read after each step.
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal) { stop_signal = signal; }
+
+// SIGINT and SIGTERM set stop_signal while a solve runs; the previous handlers come back after.
+class StopSignals {
+ public:
+  StopSignals() {
+    stop_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;  // file writes in progress continue rather than fail with EINTR
+    sigaction(SIGINT, &action, &previous_interrupt_);
+    sigaction(SIGTERM, &action, &previous_terminate_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &previous_interrupt_, nullptr);
+    sigaction(SIGTERM, &previous_terminate_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction previous_interrupt_ {};
+  struct sigaction previous_terminate_ {};
+};
+
 }  // namespace
 
 SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
+  if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
+    throw Error("--checkpoint-interval: expected a finite time >= 0 s");
   const RunSettings& run = model.run;
+  const StopSignals stop_signals;
   Simulation sim = make_simulation(model, omp_get_max_threads());
-  ResultsWriter writer(options.out_dir, model);
-
-  const Energies initial = energies(sim);
-  const double budget = energy_budget(sim, initial);
-  // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
-  const double budget_limit = 2 * budget + 1e-9 * std::abs(initial.potential) + 1e-12;
-  writer.record_history(sim, initial);
-  writer.write_frame(sim);
+  LoopState loop;
+  std::optional<ResultsWriter> writer;
+  const std::string checkpoint = checkpoint_path(options.out_dir);
+  if (options.restart) {
+    ResultsPosition position;
+    read_checkpoint(options.out_dir, model, sim, loop, position);
+    writer.emplace(options.out_dir, model, position);
+    log << "restarting from " << checkpoint << " at step " << sim.steps << ", t = " << sim.time << " s ("
+        << position.frames << " frames kept)\n";
+  } else {
+    std::error_code ignored;  // a checkpoint of an earlier run would not match the new results
+    std::filesystem::remove(checkpoint, ignored);
+    writer.emplace(options.out_dir, model);
+    const Energies initial = energies(sim);
+    loop.budget = energy_budget(sim, initial);
+    // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
+    loop.budget_limit = 2 * loop.budget + 1e-9 * std::abs(initial.potential) + 1e-12;
+    loop.next_output = run.output_interval;
+    writer->record_history(sim, initial);
+    writer->write_frame(sim);
+  }
+  // Periodic checkpoints at multiples of the interval; they change what is on disk, not the run.
+  const double interval = options.checkpoint_interval;
+  loop.next_checkpoint = interval > 0 ? interval * (std::floor(sim.time / interval) + 1)
+                                      : std::numeric_limits<double>::infinity();
 
   SolveSummary summary;
   summary.particles = model.particle_count();
-  double next_output = run.output_interval;
-  double peak_kinetic = 0, peak_time = 0, rest_since = -1;
   Progress progress(options.progress, run.end_time);
   const auto start = Clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   auto fail = [&](const std::string& message) {
     progress.done();
-    writer.finish(sim.steps, std::chrono::duration<double>(Clock::now() - start).count(), false);
-    throw Error("solve: " + message + "; " + std::to_string(writer.frames()) + " frames kept in " + writer.path());
+    writer->finish(sim.steps, seconds(), false);
+    throw Error("solve: " + message + "; " + std::to_string(writer->frames()) + " frames kept in " + writer->path());
   };
 
   const double end_tolerance = 1e-9 * run.end_time;
   while (sim.time < run.end_time - end_tolerance) {
     double dt = stable_time_step(sim, run.cfl);
     if (!std::isfinite(dt) || dt <= 0) fail("non-finite time step at t = " + std::to_string(sim.time) + " s");
-    dt = std::min(dt, next_output - sim.time);  // land on output times exactly
+    dt = std::min(dt, loop.next_output - sim.time);  // land on output times exactly
     if (!step(sim, dt)) {
       const Particles& P = sim.particles;
       std::ostringstream where;
@@ -106,7 +159,7 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
       // An unstable run flings particles out of the domain before anything else shows: an
       // energy beyond what the run can have tells a blow-up from a real exit.
       const Energies energy = energies(sim);
-      const bool blown_up = !std::isfinite(energy.kinetic) || energy.kinetic > budget_limit;
+      const bool blown_up = !std::isfinite(energy.kinetic) || energy.kinetic > loop.budget_limit;
       if (sim.lost_particle >= 0)
         fail(std::string(blown_up ? "numerical blow-up (kinetic energy beyond what gravity can supply): " : "") +
              "particle " + std::to_string(P.id[sim.lost_particle]) + " left the domain at " +
@@ -117,45 +170,65 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
     }
     if (sim.steps % kSortInterval == 0) sort_particles(sim);
 
-    const bool frame_due = sim.time >= next_output - end_tolerance;
+    const bool frame_due = sim.time >= loop.next_output - end_tolerance;
     if (sim.steps % run.history_interval == 0 || frame_due) {
       const Energies energy = energies(sim);
       if (!std::isfinite(energy.kinetic + energy.grid_kinetic) ||
-          std::max(energy.kinetic, energy.grid_kinetic) > budget_limit) {
+          std::max(energy.kinetic, energy.grid_kinetic) > loop.budget_limit) {
         std::ostringstream message;
         message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: kinetic energy "
-                << energy.kinetic << " J/m exceeds the " << budget
+                << energy.kinetic << " J/m exceeds the " << loop.budget
                 << " J/m that gravity and the initial state can supply (try a smaller run.cfl)";
         fail(message.str());
       }
-      writer.record_history(sim, energy);
+      writer->record_history(sim, energy);
       // Rest is judged on the grid's kinetic energy: the motion of the material itself.
-      if (energy.grid_kinetic > peak_kinetic) peak_kinetic = energy.grid_kinetic, peak_time = sim.time;
-      if (run.rest_ratio > 0 && peak_kinetic > 0 && sim.time > peak_time &&
-          energy.grid_kinetic < run.rest_ratio * peak_kinetic) {
-        if (rest_since < 0) rest_since = sim.time;
+      if (energy.grid_kinetic > loop.peak_kinetic) loop.peak_kinetic = energy.grid_kinetic, loop.peak_time = sim.time;
+      if (run.rest_ratio > 0 && loop.peak_kinetic > 0 && sim.time > loop.peak_time &&
+          energy.grid_kinetic < run.rest_ratio * loop.peak_kinetic) {
+        if (loop.rest_since < 0) loop.rest_since = sim.time;
       } else {
-        rest_since = -1;
+        loop.rest_since = -1;
       }
     }
-    const bool at_rest = rest_since >= 0 && sim.time - rest_since >= run.rest_window;
+    const bool at_rest = loop.rest_since >= 0 && sim.time - loop.rest_since >= run.rest_window;
     const bool out_of_steps = run.max_steps > 0 && sim.steps >= run.max_steps;
-    if (frame_due || at_rest || out_of_steps) {
-      writer.write_frame(sim);
-      while (next_output <= sim.time + end_tolerance) next_output += run.output_interval;
+    const bool frame_written = frame_due || at_rest || out_of_steps;
+    if (frame_written) {
+      writer->write_frame(sim);
+      while (loop.next_output <= sim.time + end_tolerance) loop.next_output += run.output_interval;
     }
     progress.update(sim, dt, start);
     if (at_rest || out_of_steps) {
       summary.stopped_at_rest = at_rest;
       break;
     }
+    if (sim.time >= loop.next_checkpoint - end_tolerance) {
+      while (loop.next_checkpoint <= sim.time + end_tolerance) loop.next_checkpoint += interval;
+      write_checkpoint(options.out_dir, model, sim, loop, writer->sync());
+    }
+    if (const int signal = stop_signal) {
+      // The checkpoint records the frames of the uninterrupted run only; the last frame
+      // written after it shows where the run stopped, and a restart drops it.
+      progress.done();
+      write_checkpoint(options.out_dir, model, sim, loop, writer->sync());
+      if (!frame_written) writer->write_frame(sim);
+      writer->finish(sim.steps, seconds(), false);
+      std::ostringstream message;
+      message << "interrupted by " << (signal == SIGINT ? "SIGINT" : "SIGTERM") << " at step " << sim.steps
+              << ", t = " << sim.time << " s: " << writer->frames() << " frames kept in " << writer->path()
+              << ", checkpoint in " << checkpoint << " (continue with --restart)";
+      throw Interrupted(signal, message.str());
+    }
   }
   progress.done();
-  summary.loop_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  summary.loop_seconds = seconds();
   summary.steps = sim.steps;
   summary.simulated_time = sim.time;
-  writer.finish(sim.steps, summary.loop_seconds, true);
-  summary.frames = writer.frames();
+  writer->finish(sim.steps, summary.loop_seconds, true);
+  summary.frames = writer->frames();
+  std::error_code ignored;  // the results are complete: nothing left to restart
+  std::filesystem::remove(checkpoint, ignored);
   if (summary.stopped_at_rest)
     log << "at rest at t = " << sim.time << " s (kinetic energy below " << run.rest_ratio * 100 << "% of its peak for "
         << run.rest_window << " s)\n";

@@ -2,6 +2,7 @@
 // for ParaView). The results layout is documented in docs/results-format.md.
 #pragma once
 #include <iosfwd>
+#include <stdexcept>
 #include <string>
 
 #include "common/model.hpp"
@@ -12,6 +13,17 @@ struct SolveOptions {
   std::string out_dir;   // results.h5 and results.xdmf go here
   bool progress = true;  // a progress line when stderr is a terminal
   int threads = 0;       // 0: OpenMP's default
+  // Simulated seconds between checkpoints (OUT/checkpoint.h5, see checkpoint.hpp); 0: none,
+  // except the one written when SIGINT or SIGTERM stops the run.
+  double checkpoint_interval = 0;
+  bool restart = false;  // continue from OUT/checkpoint.h5 and OUT/results.h5
+};
+
+// Thrown by solve() when SIGINT or SIGTERM stopped it: after the current step, a checkpoint,
+// a last frame and the closing of results.h5 (complete = 0). The driver exits with 128 + signal.
+struct Interrupted : std::runtime_error {
+  Interrupted(int signal_number, const std::string& message) : std::runtime_error(message), signal(signal_number) {}
+  int signal;
 };
 
 struct SolveSummary {
@@ -29,7 +41,8 @@ struct SolveSummary {
 // Runs the model to run.end_time (or to rest, or to max_steps). Throws talus::Error, after
 // closing results.h5 with the frames written so far, when the run blows up (non-finite state
 // or kinetic energy beyond what gravity and the initial state can supply) or a particle
-// leaves the domain; the message says when and where.
+// leaves the domain; the message says when and where. SIGINT and SIGTERM stop it cleanly
+// (Interrupted). A run that completes removes its checkpoint.
 SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log);
 
 void print_summary(const SolveSummary& summary, std::ostream& out);

@@ -1,0 +1,48 @@
+// Restart state of a solve (OUT/checkpoint.h5): everything the time loop needs to continue as
+// if it had never stopped. With one thread a restarted run gives the same frames, bit for bit,
+// as an uninterrupted one; docs/robustness.md says why more threads do not.
+//
+// The file holds the particles in the solver's current (sorted) order with every per-particle
+// array, the simulation's time and step count, the loop's own state (next output and
+// checkpoint times, the peak kinetic energy, the rest timer, the energy budget) and how far
+// results.h5 had been written. It is written to checkpoint.h5.tmp and renamed, so a checkpoint
+// is either the previous one or the new one, never half of either.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "common/model.hpp"
+#include "solver/results.hpp"
+#include "solver/simulation.hpp"
+
+namespace talus::solver {
+
+inline constexpr int kCheckpointFormatVersion = 1;
+
+// The time loop's state besides the simulation's.
+struct LoopState {
+  double next_output = 0;      // s, time of the next frame
+  double next_checkpoint = 0;  // s, time of the next periodic checkpoint (infinity: none)
+  double peak_kinetic = 0;     // J/m, largest grid kinetic energy so far
+  double peak_time = 0;        // s, when it was reached
+  double rest_since = -1;      // s, start of the current spell below the rest ratio (-1: none)
+  double budget = 0;           // J/m, the most energy the run can have (blow-up test)
+  double budget_limit = 0;     // J/m, the threshold derived from it
+};
+
+// A fingerprint of the model a checkpoint belongs to (mesh, particles, run settings), so that
+// a checkpoint is never continued on another model.
+uint64_t model_fingerprint(const Model& model);
+
+std::string checkpoint_path(const std::string& out_dir);
+
+void write_checkpoint(const std::string& out_dir, const Model& model, const Simulation& sim, const LoopState& loop,
+                      const ResultsPosition& results);
+
+// Overwrites the particles, time and step count of `sim` (built by make_simulation from the
+// same model) with the checkpoint's, and fills `loop` and `results`. Throws talus::Error when
+// the file is missing, damaged, of another format version, or of another model.
+void read_checkpoint(const std::string& out_dir, const Model& model, Simulation& sim, LoopState& loop,
+                     ResultsPosition& results);
+
+}  // namespace talus::solver

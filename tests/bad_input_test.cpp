@@ -1,0 +1,352 @@
+// Bad input through the talus binary, one row per mistake: scene files, .geo files, HDF5 models
+// and results, and command lines. Every row must stop with exit status 1, a message holding
+// the row's key words (the file, the item, what was expected), and leave no model.h5,
+// results.h5, metrics.json, checkpoint.h5 or *.tmp in the output folder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+
+#include "common/h5.hpp"
+#include "common/model.hpp"
+#include "support/test_support.hpp"
+
+namespace talus {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ScratchDir;
+
+constexpr const char* kGeo = R"(lc = 0.25;
+Point(1) = {0, 0, 0, lc}; Point(2) = {2, 0, 0, lc}; Point(3) = {2, 1, 0, lc}; Point(4) = {0, 1, 0, lc};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Surface("domain") = {1};
+Physical Surface("block") = {1};
+Physical Curve("base") = {1};
+Point(5) = {0.5, 0.5, 0, lc}; Point(6) = {0.501, 0.5, 0, lc}; Point(7) = {0.501, 0.501, 0, lc};
+Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 5};
+Physical Curve("speck") = {5, 6, 7};
+)";
+
+// A valid scene; each scene row replaces one piece of it.
+constexpr const char* kScene = R"([scene]
+geometry = "block.geo"
+
+[mesh]
+size = 0.25
+
+[run]
+end_time = 0.01
+cfl = 0.5
+output_interval = 0.005
+damping = 0.0
+evs = false
+gravity = [0.0, -9.81]
+
+[materials.rock]
+model = "mohr_coulomb"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+friction_angle = 30.0
+cohesion = 1000.0
+dilation_angle = 0.0
+
+[bodies.block]
+material = "rock"
+particles_per_cell = 4
+
+[boundaries.base]
+type = "fixed"
+
+[contact]
+friction = 0.3
+)";
+
+std::string write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the base scene has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+// A small valid model: an elastic block on a fixed base, a few steps long.
+Model small_model() {
+  Model model = testing::rectangle_mesh(0, 0, 8, 8, 0.125);
+  testing::add_box_body(model, "block", testing::elastic(2000, 1e7, 0.25), 0.25, 0.75, 0, 0.5);
+  model.fixed_nodes = model.node_sets["bottom"];
+  testing::set_run(model, 0.002, Eigen::Vector2d(0, -9.81));
+  model.scene_name = "small";
+  return model;
+}
+
+// Changes one thing in an HDF5 file written by Talus.
+void edit_h5(const std::string& path, const std::function<void(const h5::File&)>& change) {
+  h5::File file = h5::File::open_write(path);
+  change(file);
+  file.close();
+}
+
+void set_double(const std::string& path, const std::string& dataset, std::size_t index, double value) {
+  edit_h5(path, [&](const h5::File& file) {
+    h5::Dims dims;
+    auto values = h5::read_doubles(file, dataset, &dims);
+    values.at(index) = value;
+    h5::write(file, dataset, values, dims);
+  });
+}
+
+void set_int(const std::string& path, const std::string& dataset, std::size_t index, int32_t value) {
+  edit_h5(path, [&](const h5::File& file) {
+    h5::Dims dims;
+    auto values = h5::read_ints(file, dataset, &dims);
+    values.at(index) = value;
+    h5::write(file, dataset, values, dims);
+  });
+}
+
+void truncate_file(const std::string& path, double fraction) {
+  const auto size = fs::file_size(path);
+  fs::resize_file(path, static_cast<std::uintmax_t>(size * fraction));
+}
+
+// One row: prepares its input files in `dir` and returns the talus arguments (the output
+// folder is always dir/out).
+struct Row {
+  std::string what;
+  std::function<std::string(const fs::path& dir)> prepare;
+  std::vector<std::string> words;
+};
+
+std::string scene_row(const fs::path& dir, const std::string& scene, const std::string& extra = "") {
+  write_file(dir / "block.geo", kGeo);
+  return "mesh " + write_file(dir / "block.toml", scene) + " " + extra;
+}
+
+std::string scene_change(const fs::path& dir, const std::string& from, const std::string& to) {
+  return scene_row(dir, replaced(kScene, from, to));
+}
+
+std::string model_row(const fs::path& dir, const std::function<void(const std::string&)>& change,
+                      const std::string& command = "solve") {
+  const std::string path = (dir / "model.h5").string();
+  write_model(path, small_model());
+  change(path);
+  return command + " " + path;
+}
+
+// results.h5 of a valid run, to hand to `talus post` after a change.
+std::string results_row(const fs::path& dir, const std::function<void(const std::string&)>& change) {
+  const std::string model = (dir / "model.h5").string();
+  write_model(model, small_model());
+  const auto solved = testing::run_talus("solve " + model + " --quiet --out " + (dir / "run").string());
+  EXPECT_EQ(solved.status, 0) << solved.output;
+  const std::string results = (dir / "run" / "results.h5").string();
+  change(results);
+  return "post " + results;
+}
+
+std::vector<std::string> leftovers(const fs::path& out) {
+  std::vector<std::string> found;
+  if (!fs::exists(out)) return found;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "model.h5" || name == "results.h5" || name == "metrics.json" || name == "checkpoint.h5" ||
+        entry.path().extension() == ".tmp")
+      found.push_back(name);
+  }
+  return found;
+}
+
+std::vector<Row> rows() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return {
+      // Scene files.
+      {"unknown key in a table", [](auto d) { return scene_change(d, "cfl = 0.5", "cfl = 0.5\ncfll = 0.4"); },
+       {"block.toml", "run.cfll", "unknown key", "did you mean 'run.cfl'"}},
+      {"unknown table", [](auto d) { return scene_change(d, "[contact]", "[contacts]"); },
+       {"block.toml", "contacts", "unknown key", "did you mean 'contact'"}},
+      {"unknown key by --set", [](auto d) { return scene_row(d, kScene, "--set run.end_tme=2"); },
+       {"block.toml", "run.end_tme", "did you mean 'run.end_time'"}},
+      {"NaN CFL", [](auto d) { return scene_change(d, "cfl = 0.5", "cfl = nan"); },
+       {"block.toml", "run.cfl", "finite", "(0, 1]"}},
+      {"zero CFL", [](auto d) { return scene_change(d, "cfl = 0.5", "cfl = 0.0"); }, {"run.cfl", "got 0", "(0, 1]"}},
+      {"CFL above one", [](auto d) { return scene_change(d, "cfl = 0.5", "cfl = 1.5"); },
+       {"run.cfl", "got 1.5", "(0, 1]"}},
+      {"negative friction", [](auto d) { return scene_change(d, "friction = 0.3", "friction = -0.1"); },
+       {"contact.friction", "got -0.1", "[0, inf]"}},
+      {"Poisson ratio of one half", [](auto d) { return scene_change(d, "poisson_ratio = 0.25", "poisson_ratio = 0.5"); },
+       {"materials.rock.poisson_ratio", "got 0.5", "[0, 0.5)"}},
+      {"negative Poisson ratio",
+       [](auto d) { return scene_change(d, "poisson_ratio = 0.25", "poisson_ratio = -0.1"); },
+       {"materials.rock.poisson_ratio", "got -0.1"}},
+      {"friction angle beyond 90", [](auto d) { return scene_change(d, "friction_angle = 30.0", "friction_angle = 95.0"); },
+       {"materials.rock.friction_angle", "got 95", "[0, 90)"}},
+      {"dilation above friction", [](auto d) { return scene_change(d, "dilation_angle = 0.0", "dilation_angle = 40.0"); },
+       {"materials.rock.dilation_angle", "got 40", "[0, 30]"}},
+      {"zero end time", [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = 0.0"); },
+       {"run.end_time", "got 0", "(0, inf]"}},
+      {"negative end time", [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = -1.0"); },
+       {"run.end_time", "got -1"}},
+      {"infinite output interval",
+       [](auto d) { return scene_change(d, "output_interval = 0.005", "output_interval = inf"); },
+       {"run.output_interval", "finite"}},
+      {"negative mesh size", [](auto d) { return scene_change(d, "size = 0.25", "size = -0.25"); },
+       {"mesh.size", "got -0.25"}},
+      {"damping of one", [](auto d) { return scene_change(d, "damping = 0.0", "damping = 1.0"); },
+       {"run.damping", "[0, 1)"}},
+      {"NaN in gravity", [](auto d) { return scene_change(d, "gravity = [0.0, -9.81]", "gravity = [0.0, nan]"); },
+       {"run.gravity", "finite"}},
+      {"density of the wrong type", [](auto d) { return scene_change(d, "density = 2000.0", "density = \"heavy\""); },
+       {"materials.rock.density", "expected a number"}},
+      {"boolean of the wrong type", [](auto d) { return scene_change(d, "evs = false", "evs = 1"); },
+       {"run.evs", "expected true or false"}},
+      {"fractional particles per cell",
+       [](auto d) { return scene_change(d, "particles_per_cell = 4", "particles_per_cell = 4.5"); },
+       {"bodies.block.particles_per_cell", "expected an integer"}},
+      {"unsupported particles per cell",
+       [](auto d) { return scene_change(d, "particles_per_cell = 4", "particles_per_cell = 5"); },
+       {"bodies.block.particles_per_cell", "expected 1, 3, 4, 6 or 10"}},
+      {"unknown material model", [](auto d) { return scene_change(d, "\"mohr_coulomb\"", "\"plasticine\""); },
+       {"materials.rock.model", "plasticine", "linear_elastic or mohr_coulomb"}},
+      {"body named like a reserved dataset", [](auto d) { return scene_change(d, "[bodies.block]", "[bodies.names]\ngroup = \"block\""); },
+       {"bodies.names", "not 'names'"}},
+      {"bad TOML syntax", [](auto d) { return scene_change(d, "[run]", "[run"); },
+       {"block.toml", "not valid TOML", "line 7"}},
+      {"--set with an empty key part", [](auto d) { return scene_row(d, kScene, "--set run.=2"); },
+       {"--set run.=2", "expected KEY=VALUE"}},
+      {"missing scene file", [](auto d) { return "mesh " + (d / "nowhere.toml").string(); },
+       {"nowhere.toml", "no such scene file"}},
+      // .geo files.
+      {"missing .geo", [](auto d) { return scene_change(d, "block.geo", "nowhere.geo"); },
+       {"nowhere.geo", "no such geometry file"}},
+      {"unparsable .geo",
+       [](auto d) {
+         write_file(d / "bad.geo", "Point(1) = {0, 0, 0};\nLine(1) = {1, 2\n");
+         return scene_change(d, "block.geo", "bad.geo");
+       },
+       {"bad.geo", "syntax error"}},
+      {"physical group missing from the .geo",
+       [](auto d) { return scene_change(d, "material = \"rock\"", "material = \"rock\"\ngroup = \"granite\""); },
+       {"block.geo", "granite", "bodies.block", "not a physical group", "speck"}},
+      {"domain missing from the .geo", [](auto d) { return scene_change(d, "size = 0.25", "size = 0.25\ndomain = \"ground\""); },
+       {"block.geo", "ground", "mesh.domain"}},
+      {"mesh too fine for the memory", [](auto d) { return scene_row(d, kScene, "--set mesh.size=1e-5"); },
+       {"block.toml", "mesh.size", "triangles", "particles", "GB", "MemAvailable"}},
+      {"body smaller than an element",
+       [](auto d) { return scene_change(d, "material = \"rock\"", "material = \"rock\"\ngroup = \"speck\""); },
+       {"block.toml", "bodies.block", "too coarse", "element"}},
+      // HDF5 models through `talus solve`.
+      {"truncated model", [](auto d) { return model_row(d, [](auto p) { truncate_file(p, 0.5); }); },
+       {"model.h5", "truncated"}},
+      {"empty model file", [](auto d) { return model_row(d, [](auto p) { truncate_file(p, 0); }); },
+       {"model.h5", "not an HDF5 file"}},
+      {"text file named .h5",
+       [](auto d) { return model_row(d, [](auto p) { write_file(p, "[scene]\nname = \"not hdf5\"\n"); }); },
+       {"model.h5", "not an HDF5 file"}},
+      {"wrong format tag",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::set_attribute(f, "/", "format", std::string("talus-results")); });
+         });
+       },
+       {"model.h5", "not a Talus talus-model file"}},
+      {"older format version",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::set_attribute(f, "/", "format_version", int64_t{0}); });
+         });
+       },
+       {"model.h5", "format_version", "file has version 0", "reads version 1"}},
+      {"missing dataset",
+       [](auto d) {
+         return model_row(d, [](auto p) { edit_h5(p, [](auto& f) { H5Ldelete(f.id(), "particles/mass", H5P_DEFAULT); }); });
+       },
+       {"model.h5", "particles/mass", "missing dataset"}},
+      {"NaN particle position",
+       [nan](auto d) { return model_row(d, [nan](auto p) { set_double(p, "particles/position", 7, nan); }); },
+       {"model.h5", "particles/position", "non-finite"}},
+      {"NaN particle stress",
+       [nan](auto d) { return model_row(d, [nan](auto p) { set_double(p, "particles/stress", 3, nan); }); },
+       {"model.h5", "particles/stress", "non-finite"}},
+      {"negative particle mass",
+       [](auto d) { return model_row(d, [](auto p) { set_double(p, "particles/mass", 2, -1.0); }); },
+       {"model.h5", "particles/mass", "particle 2", "non-positive"}},
+      {"element index out of range",
+       [](auto d) { return model_row(d, [](auto p) { set_int(p, "particles/element", 0, 100000); }); },
+       {"model.h5", "particles/element", "out of range"}},
+      {"triangle node index out of range",
+       [](auto d) { return model_row(d, [](auto p) { set_int(p, "mesh/triangles", 4, -3); }); },
+       {"model.h5", "mesh/triangles", "out of range in row 1"}},
+      {"dataset of the wrong shape",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::write(f, "particles/velocity", std::vector<double>(9, 0.0), {3, 3}); });
+         });
+       },
+       {"model.h5", "particles/velocity", "expected shape"}},
+      {"run settings out of range in the model",
+       [](auto d) {
+         return model_row(d, [](auto p) { edit_h5(p, [](auto& f) { h5::set_attribute(f, "settings/run", "cfl", 2.0); }); });
+       },
+       {"model.h5", "settings/run", "out of range"}},
+      {"results file handed to solve", [](auto d) { return results_row(d, [](auto) {}).replace(0, 4, "solve"); },
+       {"results.h5", "not a Talus talus-model file"}},
+      {"restart without a checkpoint", [](auto d) { return model_row(d, [](auto) {}) + " --restart"; },
+       {"checkpoint.h5", "no checkpoint to restart from"}},
+      {"unknown solve option", [](auto d) { return model_row(d, [](auto) {}) + " --checkpoint-intervl=1"; },
+       {"unknown option '--checkpoint-intervl=1'"}},
+      {"negative checkpoint interval", [](auto d) { return model_row(d, [](auto) {}) + " --checkpoint-interval -1"; },
+       {"--checkpoint-interval", "'-1'"}},
+      // Results through `talus post`.
+      {"results of another format version",
+       [](auto d) {
+         return results_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::set_attribute(f, "/", "format_version", int64_t{2}); });
+         });
+       },
+       {"results.h5", "file has version 2", "reads version 1"}},
+      {"model handed to post", [](auto d) { return model_row(d, [](auto) {}, "post"); },
+       {"model.h5", "not a Talus talus-results file"}},
+  };
+}
+
+TEST(BadInput, TheBaseInputsAreValid) {
+  ScratchDir dir("bad-input-base");
+  auto meshed = testing::run_talus(scene_row(dir.path(), kScene) + " --out " + dir.file("out"));
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  EXPECT_TRUE(fs::exists(dir.file("out/model.h5")));
+  auto solved = testing::run_talus(model_row(dir.path(), [](auto) {}) + " --quiet --out " + dir.file("solved"));
+  EXPECT_EQ(solved.status, 0) << solved.output;
+  EXPECT_TRUE(fs::exists(dir.file("solved/results.h5")));
+}
+
+TEST(BadInput, EveryRowStopsWithOneClearMessageAndLeavesNothing) {
+  const auto table = rows();
+  EXPECT_GE(table.size(), 30u);
+  for (const auto& row : table) {
+    SCOPED_TRACE(row.what);
+    ScratchDir dir("bad-input");
+    const fs::path out = dir.path() / "out";
+    const auto result = testing::run_talus(row.prepare(dir.path()) + " --out " + out.string());
+    EXPECT_EQ(result.status, 1) << result.output;
+    for (const auto& word : row.words)
+      EXPECT_NE(result.output.find(word), std::string::npos) << "'" << word << "' not in: " << result.output;
+    EXPECT_EQ(result.output.find("internal error"), std::string::npos) << result.output;
+    const auto left = leftovers(out);
+    EXPECT_TRUE(left.empty()) << "left behind: " << (left.empty() ? "" : left.front());
+  }
+}
+
+}  // namespace
+}  // namespace talus
