@@ -163,6 +163,8 @@ Row measure(const std::string& scene, const Setting& setting, const Options& opt
       row.has_circle = x && y && r;
       if (row.has_circle) row.circle_x = *x, row.circle_y = *y, row.circle_r = *r;
     }
+  } catch (const solver::Interrupted&) {
+    throw;  // Ctrl-C or SIGTERM stops the sweep, not just this run
   } catch (const std::exception& error) {
     row.failure = error.what();
   }
