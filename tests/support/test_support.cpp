@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
@@ -74,16 +75,17 @@ Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
   return model;
 }
 
-int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
-                 double y1, bool fixed) {
+namespace {
+
+// Registers a body of `material` described by `info` and seeds it at the four-point barycentric
+// positions of the mesh's triangles, each with a quarter of the triangle's area; `keep(centroid,
+// point)` says which of them belong to the body. Returns the body's index.
+template <class Keep>
+int add_seeded_body(Model& model, BodyInfo info, const Material& material, Keep keep) {
   const int body = static_cast<int>(model.bodies.size());
   model.materials.push_back(material);
-  model.materials.back().name = name + "_material";
-  BodyInfo info;
-  info.name = name;
+  model.materials.back().name = info.name + "_material";
   info.material = static_cast<int>(model.materials.size()) - 1;
-  info.fixed = fixed;
-  info.loops = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
   model.bodies.push_back(info);
   // Four equal-weight interior points: the centroid and the three permutations of (1/2, 1/4, 1/4).
   const double rule[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.25, 0.25}, {0.25, 0.5, 0.25}, {0.25, 0.25, 0.5}};
@@ -91,10 +93,11 @@ int add_box_body(Model& model, const std::string& name, const Material& material
     const auto& t = model.triangles[e];
     const Eigen::Vector2d a = model.nodes[t[0]], b = model.nodes[t[1]], c = model.nodes[t[2]];
     const Eigen::Vector2d centroid = (a + b + c) / 3;
-    if (centroid.x() < x0 || centroid.x() > x1 || centroid.y() < y0 || centroid.y() > y1) continue;
     const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
     for (const auto& w : rule) {
-      model.position.push_back(w[0] * a + w[1] * b + w[2] * c);
+      const Eigen::Vector2d x = w[0] * a + w[1] * b + w[2] * c;
+      if (!keep(centroid, x)) continue;
+      model.position.push_back(x);
       model.velocity.push_back(Eigen::Vector2d::Zero());
       model.volume.push_back(area / 4);
       model.mass.push_back(material.density * area / 4);
@@ -104,6 +107,34 @@ int add_box_body(Model& model, const std::string& name, const Material& material
     }
   }
   return body;
+}
+
+}  // namespace
+
+int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
+                 double y1, bool fixed) {
+  BodyInfo info;
+  info.name = name;
+  info.fixed = fixed;
+  info.loops = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+  return add_seeded_body(model, info, material, [&](const Eigen::Vector2d& centroid, const Eigen::Vector2d&) {
+    return centroid.x() >= x0 && centroid.x() <= x1 && centroid.y() >= y0 && centroid.y() <= y1;
+  });
+}
+
+int add_disc_body(Model& model, const std::string& name, const Material& material, const Eigen::Vector2d& centre,
+                  double radius) {
+  BodyInfo info;
+  info.name = name;
+  constexpr int kSides = 64;  // outline only: the particles follow the circle itself
+  info.loops.emplace_back();
+  for (int k = 0; k < kSides; ++k) {
+    const double angle = 2 * M_PI * k / kSides;
+    info.loops.back().push_back(centre + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+  }
+  return add_seeded_body(model, info, material, [&](const Eigen::Vector2d&, const Eigen::Vector2d& x) {
+    return (x - centre).norm() <= radius;
+  });
 }
 
 Material elastic(double density, double youngs_modulus, double poisson_ratio) {
