@@ -1,6 +1,7 @@
 #include "app/cli.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "common/error.hpp"
 
@@ -14,6 +15,22 @@ Arguments parse(int argc, char** argv) {
     if (equals != std::string::npos) return current.substr(equals + 1);
     if (i + 1 >= argc) throw Error("option " + name + " needs a value");
     return argv[++i];
+  };
+  // A finite number in [low, high) (or (low, high) when low is excluded), from "--name=x" or "--name x".
+  auto number_of = [&](int& i, const std::string& name, double low, bool exclude_low, double high,
+                       const std::string& expected) {
+    const std::string text = value_of(i, name);
+    std::size_t used = 0;
+    double value = std::numeric_limits<double>::quiet_NaN();
+    try {
+      value = std::stod(text, &used);
+    } catch (...) {
+      used = 0;
+    }
+    const bool above_low = exclude_low ? value > low : value >= low;
+    if (used != text.size() || !std::isfinite(value) || !above_low || !(value < high))
+      throw Error(name + ": expected " + expected + ", got '" + text + "'");
+    return value;
   };
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
@@ -31,17 +48,10 @@ Arguments parse(int argc, char** argv) {
       }
       if (args.threads < 1) throw Error("--threads: expected a positive integer, got '" + text + "'");
     } else if (name == "--checkpoint-interval") {
-      const std::string text = value_of(i, name);
-      std::size_t used = 0;
-      double value = -1;
-      try {
-        value = std::stod(text, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used != text.size() || !std::isfinite(value) || value < 0)
-        throw Error("--checkpoint-interval: expected a time >= 0 in seconds of simulated time, got '" + text + "'");
-      args.checkpoint_interval = value;
+      args.checkpoint_interval = number_of(i, name, 0, false, std::numeric_limits<double>::infinity(),
+                                           "a time >= 0 in seconds of simulated time");
+    } else if (name == "--tolerance") {
+      args.tolerance = number_of(i, name, 0, true, 1, "a number in (0, 1)");
     } else if (word == "--restart") args.restart = true;
     else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
     else if (args.command.empty()) args.command = word;

@@ -17,6 +17,7 @@ struct Arguments {
   int threads = 0;                     // --threads N (0: all cores)
   std::optional<double> checkpoint_interval;  // --checkpoint-interval T (s of simulated time)
   bool restart = false;                       // --restart
+  std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)
   std::vector<std::string> flags;      // other --name[=value] options, for subcommands
 };
 

@@ -37,22 +37,8 @@ using Clock = std::chrono::steady_clock;
 using Vec2 = Eigen::Vector2d;
 
 double tolerance_of(const cli::Arguments& args) {
-  double tolerance = 0.01;
-  for (const auto& flag : args.flags) {
-    const std::string name = flag.substr(0, flag.find('='));
-    if (name != "--tolerance") throw Error("fos: unknown option '" + flag + "' (see talus --help)");
-    if (flag.find('=') == std::string::npos) throw Error("fos: write the tolerance as --tolerance=0.01");
-    const std::string text = flag.substr(flag.find('=') + 1);
-    try {
-      std::size_t used = 0;
-      tolerance = std::stod(text, &used);
-      if (used != text.size()) tolerance = -1;
-    } catch (...) {
-      tolerance = -1;
-    }
-    if (!(tolerance > 0 && tolerance < 1)) throw Error("fos: --tolerance: expected a number in (0, 1), got '" + text + "'");
-  }
-  return tolerance;
+  if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
+  return args.tolerance.value_or(0.01);
 }
 
 std::string quoted(const std::string& text) {

@@ -38,7 +38,7 @@ Usage:
         (default DIR: the results' folder).
   talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
         The pipeline on a scene (default geometries/slope.toml): mesh, solve, post.
-  talus fos   SCENE.toml [--set KEY=VALUE]... [--out DIR] [--threads N] [--tolerance=DF]
+  talus fos   SCENE.toml [--set KEY=VALUE]... [--out DIR] [--threads N] [--tolerance DF]
         Factor of safety by shear strength reduction (trials on N threads, bracket
         width DF, default 0.01): DIR/fos.json and fos.png (docs/fos.md).
 
@@ -148,6 +148,7 @@ void reject_unknown_options(const cli::Arguments& args, bool solves) {
     throw Error("unknown option '" + args.flags.front() + "' for talus " + args.command + " (see talus --help)");
   if (!solves && (args.restart || args.checkpoint_interval))
     throw Error("--checkpoint-interval and --restart belong to solve or run, not " + args.command);
+  if (args.tolerance) throw Error("--tolerance belongs to fos, not " + args.command);
 }
 
 int run_command(const cli::Arguments& args) {
@@ -191,7 +192,7 @@ int run_command(const cli::Arguments& args) {
     const Scene scene = load_scene(scene_path, args.overrides);
     return run_pipeline(scene, output_folder(args, scene), args);
   }
-  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post or run; see talus --help)");
+  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post, run or fos; see talus --help)");
 }
 
 }  // namespace
