@@ -175,7 +175,13 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.triangles = mesh.triangles;
   model.neighbours = mesh.neighbours;
   for (const auto& group : geo.groups)
-    if (group.dim == 1) model.node_sets[group.name] = node_set(geo, group, mesh);
+    if (group.dim == 1) {
+      // Node sets are stored as mesh/node_sets/NAME in model.h5: a '/' would nest groups.
+      if (group.name.empty() || group.name.find('/') != std::string::npos || group.name == ".")
+        throw Error(located(scene.geometry, "Physical Curve(\"" + group.name + "\")",
+                            "a physical curve needs a non-empty name without '/'"));
+      model.node_sets[group.name] = node_set(geo, group, mesh);
+    }
 
   std::vector<Loop> domain_loops;
   // The edges of a triangulation without a neighbour always close into loops.

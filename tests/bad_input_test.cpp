@@ -239,6 +239,12 @@ std::vector<Row> rows() {
       {"physical group missing from the .geo",
        [](auto d) { return scene_change(d, "material = \"rock\"", "material = \"rock\"\ngroup = \"granite\""); },
        {"block.geo", "granite", "bodies.block", "not a physical group", "speck"}},
+      {"physical curve name with a '/'",
+       [](auto d) {
+         write_file(d / "slash.geo", replaced(kGeo, "Physical Curve(\"base\")", "Physical Curve(\"ba/se\")"));
+         return "mesh " + write_file(d / "block.toml", replaced(kScene, "block.geo", "slash.geo"));
+       },
+       {"slash.geo", "Physical Curve(\"ba/se\")", "without '/'"}},
       {"domain missing from the .geo", [](auto d) { return scene_change(d, "size = 0.25", "size = 0.25\ndomain = \"ground\""); },
        {"block.geo", "ground", "mesh.domain"}},
       {"mesh too fine for the memory", [](auto d) { return scene_row(d, kScene, "--set mesh.size=1e-5"); },
