@@ -117,4 +117,32 @@ TEST(SlopeScene, FailsFromTheToeComesToRestAndReportsTheRunout) {
   const double runout = json_number(metrics, "runout_distance_m");
   std::printf("runout %.2f m, last frame %.2f s of %.1f s, %zu particles\n", runout, time.back(), end_time, n);
   EXPECT_GT(runout, 0);
+
+  // metrics.json is complete: every value the postprocessor promises, finite.
+  for (const char* key : {"runout_distance_m", "crest_retreat_m", "travel_angle_deg", "failed_area_m2",
+                          "bishop_fos", "time_to_rest_s"})
+    EXPECT_TRUE(std::isfinite(json_number(metrics, key))) << key << " in " << metrics;
+  for (const char* key : {"\"slip_circle\"", "\"bishop_circle\"", "\"failure_surface\": [["})
+    EXPECT_NE(metrics.find(key), std::string::npos) << key;
+  const std::string slip = metrics.substr(metrics.find("\"slip_circle\""));
+  const Eigen::Vector2d centre(json_number(slip, "xc_m"), json_number(slip, "yc_m"));
+  const double radius = json_number(slip, "r_m");
+  ASSERT_TRUE(std::isfinite(centre.norm() + radius)) << slip.substr(0, 120);
+  // The fitted slip circle passes near the toe (within two cells of 0.5 m) ...
+  EXPECT_LT(std::abs((centre - Eigen::Vector2d(kToeX, 0)).norm() - radius), 1.0);
+  // ... and comes out on the crest plateau (y = H) behind the crest, within two slope heights.
+  ASSERT_GT(radius, std::abs(kHeight - centre.y()));
+  const double exit_x = centre.x() - std::sqrt(radius * radius - (kHeight - centre.y()) * (kHeight - centre.y()));
+  EXPECT_GT(exit_x, kCrestX - 2 * kHeight);
+  EXPECT_LT(exit_x, kCrestX + 0.5);
+  std::printf("slip circle centre (%.2f, %.2f) m, r %.2f m, exits the crest plateau at x = %.2f m\n", centre.x(),
+              centre.y(), radius, exit_x);
+
+  // The figures a report needs exist and are not empty.
+  for (const char* figure : {"deformed.png", "front.png", "energy.png"}) {
+    std::ifstream png(dir.file(figure), std::ios::binary);
+    char magic[4] = {};
+    png.read(magic, 4);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG") << figure;
+  }
 }
