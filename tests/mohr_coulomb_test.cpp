@@ -335,7 +335,9 @@ TEST(MohrCoulomb, IsotropicTensionReturnsToTheApex) {
       EXPECT_EQ(sigma[3], 0.0);
       // A purely isotropic trial leaves no plastic shear; a deviatoric one does.
       const bool deviatoric = start[0] != start[1] || start[3] != 0;
-      if (deviatoric) EXPECT_GT(d_gamma, 0.0);
+      if (deviatoric) {
+        EXPECT_GT(d_gamma, 0.0);
+      }
       else EXPECT_NEAR(d_gamma, 0.0, 1e-15);
     }
     // Plane strain: the in-plane tension alone reaches the apex as well.

@@ -159,7 +159,9 @@ TEST(PreprocScenes, BoxInclineFillsBothBodiesExactly) {
   // every box particle is above it, every surface particle below it (or in the wall).
   const Eigen::Vector2d up_slope_normal(std::sin(std::numbers::pi / 6), std::cos(std::numbers::pi / 6));
   for (std::size_t p = 0; p < m.model.particle_count(); ++p)
-    if (m.model.body[p] == body_of(m.model, "box")) EXPECT_GT(m.model.position[p].dot(up_slope_normal), 0);
+    if (m.model.body[p] == body_of(m.model, "box")) {
+      EXPECT_GT(m.model.position[p].dot(up_slope_normal), 0);
+    }
 }
 
 TEST(PreprocScenes, SlopeFillsTheSoilExactlyWithRollerSidesAndFixedBase) {

@@ -78,7 +78,9 @@ TEST(Results, DatasetsHaveTheDocumentedNamesAndShapes) {
   // The block falls freely until it meets the plate (0.5 m below) after 0.2 s: sqrt(2 0.5 / g) = 0.32 s.
   const auto velocity = h5::read_doubles(file, "frames/velocity");
   for (std::size_t p = 0; p < n; ++p)
-    if (model.body[p] == 0) EXPECT_NEAR(velocity[((4 * n) + p) * 2 + 1], -9.81 * 0.2, 1e-9);
+    if (model.body[p] == 0) {
+      EXPECT_NEAR(velocity[((4 * n) + p) * 2 + 1], -9.81 * 0.2, 1e-9);
+    }
 
   // Energy history every few steps, with gravity's work turned into kinetic energy.
   const auto history_time = h5::read_doubles(file, "history/time");

@@ -152,7 +152,9 @@ TEST(TimeStep, FreeFallFollowsTheDiscreteSolutionAndConverges) {
     EXPECT_LT(worst_discrete, 1e-12);
     EXPECT_LT(worst_stress, 1e-6);  // a rigid motion strains nothing
     EXPECT_NEAR(worst_exact, 0.5 * g.norm() * t * dt, 1e-12);
-    if (previous_error > 0) EXPECT_NEAR(worst_exact / previous_error, 0.5, 1e-6);  // first order in dt
+    if (previous_error > 0) {  // first order in dt
+      EXPECT_NEAR(worst_exact / previous_error, 0.5, 1e-6);
+    }
     previous_error = worst_exact;
   }
 }
