@@ -122,18 +122,6 @@ SlipSurface slip_surface_of(const Slope& s, const Model& model, const std::vecto
   return out;
 }
 
-void circle_json(postproc::JsonWriter& json, const std::optional<postproc::Circle>& circle) {
-  if (!circle) {
-    json.null();
-    return;
-  }
-  json.begin_object()
-      .key("xc_m").value(circle->centre.x())
-      .key("yc_m").value(circle->centre.y())
-      .key("r_m").value(circle->radius)
-      .end_object();
-}
-
 void outcome_json(postproc::JsonWriter& json, const solver::TrialOutcome& o) {
   json.key("factor").value(o.factor)
       .key("failed").value(o.failed)
@@ -217,16 +205,14 @@ std::string fos_json(const Report& r) {
     json.key("sliding_threshold_m").value(r.slip->threshold);
     json.key("failed_area_m2").value(r.slip->failed_area);
     json.key("slip_surface").value(r.slip->line);
-    json.key("slip_circle");
-    circle_json(json, r.slip->circle);
+    json.key("slip_circle").value(r.slip->circle);
   } else {
     json.key("slip_surface").null();
     json.key("slip_circle").null();
   }
   const auto& bishop = *r.bishop;
   json.key("bishop_fos").value(bishop ? std::optional<double>(bishop->factor_of_safety) : std::nullopt);
-  json.key("bishop_circle");
-  circle_json(json, bishop ? std::optional<postproc::Circle>(bishop->circle) : std::nullopt);
+  json.key("bishop_circle").value(bishop ? std::optional<postproc::Circle>(bishop->circle) : std::nullopt);
   json.key("body_outline").value(postproc::outer_loop(r.model->bodies[r.slope->body].loops));
   json.end_object();
   return json.text();

@@ -125,6 +125,15 @@ JsonWriter& JsonWriter::null() {
   return *this;
 }
 
+JsonWriter& JsonWriter::value(const std::optional<Circle>& circle) {
+  if (!circle) return null();
+  return begin_object()
+      .key("xc_m").value(circle->centre.x())
+      .key("yc_m").value(circle->centre.y())
+      .key("r_m").value(circle->radius)
+      .end_object();
+}
+
 JsonWriter& JsonWriter::value(const Polyline& points) {
   begin_array();
   for (const auto& p : points) begin_array().value(p.x()).value(p.y()).end_array();

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "postproc/circle_fit.hpp"
 #include "postproc/slope_geometry.hpp"
 
 namespace talus::postproc {
@@ -27,6 +28,8 @@ class JsonWriter {
   JsonWriter& null();
   // [[x, y], ...] on one line per point.
   JsonWriter& value(const Polyline& points);
+  // {"xc_m": .., "yc_m": .., "r_m": ..}, or null.
+  JsonWriter& value(const std::optional<Circle>& circle);
   const std::string& text() const { return text_; }
 
  private:

@@ -202,19 +202,6 @@ void write_point(JsonWriter& json, const std::string& key, const Eigen::Vector2d
   json.key(key).begin_array().value(p.x()).value(p.y()).end_array();
 }
 
-void write_circle(JsonWriter& json, const std::string& key, const std::optional<Circle>& circle) {
-  json.key(key);
-  if (!circle) {
-    json.null();
-    return;
-  }
-  json.begin_object()
-      .key("xc_m").value(circle->centre.x())
-      .key("yc_m").value(circle->centre.y())
-      .key("r_m").value(circle->radius)
-      .end_object();
-}
-
 std::string metrics_json(const Results& results, const BodySelection& body, const std::string& results_path,
                          const Metrics& m) {
   JsonWriter json;
@@ -248,14 +235,14 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
   if (m.failure_done) {
     json.key("failed_area_m2").value(m.failed_area);
     json.key("onset_time_s").value(m.onset_time);
-    write_circle(json, "slip_circle", m.slip_circle);
+    json.key("slip_circle").value(m.slip_circle);
     json.key("slip_circle_rms_m").value(m.slip_circle ? std::optional<double>(m.slip_circle_rms) : std::nullopt);
     json.key("failure_surface").value(m.failure_surface);
     json.key("shear_band").value(m.shear_band);
   }
   if (m.bishop_done) {
     json.key("bishop_fos").value(m.bishop ? std::optional<double>(m.bishop->factor_of_safety) : std::nullopt);
-    write_circle(json, "bishop_circle", m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
+    json.key("bishop_circle").value(m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
     json.key("bishop_soil").begin_object()
         .key("cohesion_Pa").value(m.soil.cohesion)
         .key("friction_angle_deg").value(m.soil.friction_angle)
