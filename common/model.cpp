@@ -34,9 +34,10 @@ const char* model_name(MaterialModel model) {
   return model == MaterialModel::MohrCoulomb ? "mohr_coulomb" : "linear_elastic";
 }
 
+// One value per row: a shape such as [N,0] has N rows but no values (found by fuzzing).
 void check_count(const h5::File& file, const std::string& path, const h5::Dims& dims, std::size_t rows) {
-  if (dims.empty() || dims[0] != rows)
-    throw Error(located(file.path(), path, "expected " + std::to_string(rows) + " rows"));
+  if (dims.size() != 1 || dims[0] != rows)
+    throw Error(located(file.path(), path, "expected shape [" + std::to_string(rows) + "]"));
 }
 
 void check_finite(const h5::File& file, const std::string& path, const std::vector<double>& values) {

@@ -35,7 +35,7 @@ for source in "$root"/common/*.cpp; do
   objects+=("$object")
 done
 wait
-for fuzzer in scene_fuzzer model_fuzzer; do
+for fuzzer in scene_fuzzer model_fuzzer model_structure_fuzzer; do
   compile "$root/fuzz/$fuzzer.cpp" "$out/obj/$fuzzer.o"
   clang++ -fsanitize=fuzzer,address "$out/obj/$fuzzer.o" "${objects[@]}" "${libraries[@]}" -o "$out/$fuzzer"
 done

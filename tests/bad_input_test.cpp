@@ -301,6 +301,15 @@ std::vector<Row> rows() {
          });
        },
        {"model.h5", "particles/velocity", "expected shape"}},
+      {"per-particle dataset with rows but no values (found by fuzzing)",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) {
+             h5::write(f, "particles/volume", std::vector<double>{}, {h5::shape(f, "particles/volume")[0], 0});
+           });
+         });
+       },
+       {"model.h5", "particles/volume", "expected shape"}},
       {"run settings out of range in the model",
        [](auto d) {
          return model_row(d, [](auto p) { edit_h5(p, [](auto& f) { h5::set_attribute(f, "settings/run", "cfl", 2.0); }); });
