@@ -164,6 +164,20 @@ File File::open_write(const std::string& path) {
 
 void File::flush() const { H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL); }
 
+void write_atomically(const std::string& path, const std::function<void(const File&)>& fill) {
+  const std::string temporary = path + ".tmp";
+  try {
+    File file = File::create(temporary);
+    fill(file);
+    file.close();
+    std::filesystem::rename(temporary, path);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
+}
+
 bool exists(const File& file, const std::string& path) {
   // Check each prefix: H5Lexists fails on a path whose parent group is missing.
   std::size_t start = 0;

@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,10 @@ class File {
   Handle handle_;
   std::string path_;
 };
+
+// Creates PATH.tmp, lets `fill` write it, closes it and renames it to PATH; on any error the
+// temporary file is removed and the error passes on. A reader never sees half a file.
+void write_atomically(const std::string& path, const std::function<void(const File&)>& fill);
 
 // Datasets are addressed by a path relative to the file root ("mesh/nodes"); intermediate
 // groups are created on write.

@@ -232,9 +232,7 @@ void read_metadata(const h5::File& file, Model& model) {
 }
 
 void write_model(const std::string& path, const Model& model) {
-  const std::string temporary = path + ".tmp";
-  try {
-    h5::File file = h5::File::create(temporary);
+  h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-model", kModelFormatVersion);
     write_metadata(file, model);
 
@@ -258,13 +256,7 @@ void write_model(const std::string& path, const Model& model) {
     h5::write(file, "particles/body", model.body, {n});
     h5::write(file, "particles/element", model.element, {n});
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
-    file.close();
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+  });
 }
 
 Model read_model(const std::string& path) {

@@ -79,9 +79,7 @@ std::string checkpoint_path(const std::string& out_dir) {
 void write_checkpoint(const std::string& out_dir, const Model& model, const Simulation& sim, const LoopState& loop,
                       const ResultsPosition& results) {
   const std::string path = checkpoint_path(out_dir);
-  const std::string temporary = path + ".tmp";
-  try {
-    h5::File file = h5::File::create(temporary);
+  h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
     const uint64_t fingerprint = model_fingerprint(model);
     int64_t stored = 0;
@@ -115,14 +113,7 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
     h5::set_attribute(file, kLoopGroup, "budget_limit", loop.budget_limit);
     h5::set_attribute(file, kLoopGroup, "results_frames", static_cast<int64_t>(results.frames));
     h5::set_attribute(file, kLoopGroup, "results_history_rows", static_cast<int64_t>(results.history_rows));
-    file.flush();
-    file.close();
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+  });
 }
 
 void read_checkpoint(const std::string& out_dir, const Model& model, Simulation& sim, LoopState& loop,
