@@ -9,23 +9,13 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
 namespace {
 
 constexpr double kBytesPerParticle = 500, kBytesPerNode = 200, kBytesPerTriangle = 150;
 constexpr int kSamplesPerCurve = 64;
-
-// gmsh's global state for the estimate only, closed on every way out.
-struct GmshReader {
-  GmshReader() {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-  }
-  ~GmshReader() { gmsh::finalize(); }
-  GmshReader(const GmshReader&) = delete;
-  GmshReader& operator=(const GmshReader&) = delete;
-};
 
 // Points along a curve, from its start to its end.
 std::vector<Eigen::Vector2d> sample_curve(int tag) {
@@ -133,7 +123,7 @@ SizeEstimate estimate_size(const Scene& scene) {
   std::ifstream probe(scene.geometry);
   if (!probe) return estimate;  // the meshing reports the missing file
   try {
-    GmshReader reader;
+    GmshSession reader;
     gmsh::open(scene.geometry);
     const std::vector<int> domain = group_entities(scene.mesh.domain, 2);
     if (domain.empty()) return estimate;

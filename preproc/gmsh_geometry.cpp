@@ -7,39 +7,13 @@
 #include <limits>
 
 #include "common/error.hpp"
+#include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
 namespace {
 
 constexpr int kLineType = 1;      // gmsh element type: 2-node line
 constexpr int kTriangleType = 2;  // gmsh element type: 3-node triangle
-
-// gmsh is one global library state: initialize on entry, finalize on every way out.
-class GmshSession {
- public:
-  GmshSession() {
-    // No gmshrc or gmsh-options: the same .geo meshes the same on every machine.
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::logger::start();
-  }
-  ~GmshSession() {
-    gmsh::logger::stop();
-    gmsh::finalize();
-  }
-  GmshSession(const GmshSession&) = delete;
-  GmshSession& operator=(const GmshSession&) = delete;
-
-  // The errors gmsh logged, one per line (gmsh sometimes logs an error and carries on).
-  static std::string logged_errors() {
-    std::vector<std::string> log;
-    gmsh::logger::get(log);
-    std::string errors;
-    for (const auto& line : log)
-      if (line.rfind("Error", 0) == 0) errors += (errors.empty() ? "" : "\n") + line;
-    return errors;
-  }
-};
 
 // gmsh 4.8 throws the error text as a std::string; later versions throw std::runtime_error.
 template <class Action>

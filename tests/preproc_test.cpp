@@ -3,6 +3,7 @@
 // pattern behave, boundary conditions resolve per node, and bad input stops `talus mesh` with
 // one message that names the file and the item, leaving no model.h5 behind.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <filesystem>
@@ -121,6 +122,16 @@ Meshed mesh_scene(const std::string& name, const std::vector<std::string>& overr
   m.scene = load_scene(testing::source_path("geometries/" + name + ".toml"), overrides);
   m.model = preproc::build_model(m.scene, &m.report);
   return m;
+}
+
+// gmsh sets OpenMP's thread count for the whole process when it starts and when it meshes; a
+// solve after meshing in the same process (talus run, talus fos) must still get every core.
+TEST(PreprocScenes, MeshingLeavesOpenMPsThreadCountAsItFoundIt) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(3);
+  mesh_scene("spring_mass");
+  EXPECT_EQ(omp_get_max_threads(), 3);
+  omp_set_num_threads(before);
 }
 
 // ---------------------------------------------------------------------------------------------
