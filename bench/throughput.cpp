@@ -33,12 +33,7 @@ Model elastic_block(long particles) {
   const int rows = n + n / 10 + 1;
   Model model = talus::testing::rectangle_mesh(0, 0, n, rows, h);
   talus::testing::add_box_body(model, "block", talus::testing::elastic(2000, 5e7, 0.3), 0, 10.0, 0, n * h);
-  model.fixed_nodes = model.node_sets["bottom"];
-  for (const char* side : {"left", "right"})
-    for (int32_t i : model.node_sets[side]) {
-      model.roller_nodes.push_back(i);
-      model.roller_normals.push_back(Eigen::Vector2d(1, 0));
-    }
+  talus::testing::fix_base_roll_sides(model);
   talus::testing::set_run(model, 1e9, Eigen::Vector2d(0, -9.81));
   model.scene_name = "throughput";
   return model;

@@ -18,6 +18,7 @@ using namespace talus;
 using namespace talus::solver;
 using talus::testing::add_box_body;
 using talus::testing::elastic;
+using talus::testing::fix_base_roll_sides;
 using talus::testing::rectangle_mesh;
 using talus::testing::ScratchDir;
 using talus::testing::set_run;
@@ -33,12 +34,7 @@ Simulation column(double damping) {
   const double h = 0.05;
   Model model = rectangle_mesh(0, 0, 4, static_cast<int>(std::lround(kH / h)) + 4, h);
   add_box_body(model, "column", elastic(kRho, kE, 0.0), 0, 0.2, 0, kH);
-  model.fixed_nodes = model.node_sets["bottom"];
-  for (const char* side : {"left", "right"})
-    for (int32_t i : model.node_sets[side]) {
-      model.roller_nodes.push_back(i);
-      model.roller_normals.push_back(Vec2(1, 0));
-    }
+  fix_base_roll_sides(model);
   set_run(model, 1.0, Vec2(0, -kG));
   model.run.damping = damping;
   return make_simulation(model, 1);

@@ -14,6 +14,7 @@ using namespace talus;
 using namespace talus::solver;
 using talus::testing::add_box_body;
 using talus::testing::elastic;
+using talus::testing::fix_base_roll_sides;
 using talus::testing::rectangle_mesh;
 using talus::testing::set_run;
 
@@ -204,12 +205,7 @@ TEST(TimeStep, ElasticColumnUnderGravitySettlesToTheLithostaticStress) {
   const int layers = static_cast<int>(std::lround(H / h));
   Model model = rectangle_mesh(0, 0, 4, layers + 4, h);
   add_box_body(model, "column", elastic(rho, 1e6, 0.0), 0, 0.2, 0, H);
-  model.fixed_nodes = model.node_sets["bottom"];
-  for (const char* side : {"left", "right"})
-    for (int32_t i : model.node_sets[side]) {
-      model.roller_nodes.push_back(i);
-      model.roller_normals.push_back(Vec2(1, 0));
-    }
+  fix_base_roll_sides(model);
   set_run(model, 1.5, Vec2(0, -g));
   model.run.damping = 0.1;
   Simulation sim = make_simulation(model, 2);

@@ -137,6 +137,15 @@ int add_disc_body(Model& model, const std::string& name, const Material& materia
   });
 }
 
+void fix_base_roll_sides(Model& model) {
+  model.fixed_nodes = model.node_sets["bottom"];
+  for (const char* side : {"left", "right"})
+    for (int32_t i : model.node_sets[side]) {
+      model.roller_nodes.push_back(i);
+      model.roller_normals.push_back(Eigen::Vector2d(1, 0));
+    }
+}
+
 Material elastic(double density, double youngs_modulus, double poisson_ratio) {
   Material m;
   m.model = MaterialModel::LinearElastic;

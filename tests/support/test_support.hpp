@@ -49,6 +49,10 @@ int add_box_body(Model& model, const std::string& name, const Material& material
 int add_disc_body(Model& model, const std::string& name, const Material& material, const Eigen::Vector2d& centre,
                   double radius);
 
+// Fixes the "bottom" node set and puts the "left" and "right" sets on rollers (normal x), the
+// usual support of a column or block on rectangle_mesh.
+void fix_base_roll_sides(Model& model);
+
 // A linear elastic material.
 Material elastic(double density, double youngs_modulus, double poisson_ratio);
 
