@@ -276,7 +276,7 @@ int run_fos(const cli::Arguments& args) {
   solver::SearchSettings settings;
   settings.tolerance = tolerance;
   settings.stable_factor = equilibrium.factor;
-  if (equilibrium.fails_as_built) settings.failed_factor = equilibrium.factor * 2;  // the attempt before
+  settings.failed_factor = equilibrium.failed_factor;
   settings.workers = threads;
   const auto search_start = Clock::now();
   int round = 0;

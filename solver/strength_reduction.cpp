@@ -176,7 +176,7 @@ EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threa
   const ReductionSettings& s = problem.settings;
   const double period = elastic_period(problem);
   EquilibriumState state;
-  for (double factor : {1.0, 0.5, 0.25, 0.125}) {
+  for (double factor : kEquilibriumFactors) {
     Simulation sim = make_simulation(*problem.model, threads);
     sim.damping = s.damping;
     sim.gravity_ramp = s.ramp * period;
@@ -193,6 +193,7 @@ EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threa
       state.sim = std::move(sim);
       state.factor = factor;
       state.fails_as_built = factor < 1;
+      if (state.attempts.size() > 1) state.failed_factor = state.attempts[state.attempts.size() - 2].factor;
       return state;
     }
   }

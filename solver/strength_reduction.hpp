@@ -101,14 +101,21 @@ struct EquilibriumAttempt {
   TrialOutcome outcome;
 };
 
+// The factors the equilibrium phase tries, in order, until one reaches equilibrium: the
+// scene's strength first, then raised (F < 1) for a slope that fails as built.
+inline constexpr double kEquilibriumFactors[] = {1.0, 0.5, 0.25, 0.125};
+
 struct EquilibriumState {
   Simulation sim;
   double factor = 1;            // the F_eq it is in equilibrium at
   bool fails_as_built = false;  // F_eq = 1 did not reach equilibrium
+  // The factor tried just before `factor`, which failed: an upper bound of the factor of
+  // safety when the slope fails as built (empty otherwise).
+  std::optional<double> failed_factor;
   std::vector<EquilibriumAttempt> attempts;
 };
 
-// Gravity ramp then damped run, at F_eq = 1, 1/2, 1/4, 1/8 until one reaches equilibrium.
+// Gravity ramp then damped run, at each of kEquilibriumFactors until one reaches equilibrium.
 // Throws talus::Error when none does. `threads`: OpenMP threads of this phase.
 EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threads, std::ostream* log = nullptr);
 
