@@ -300,6 +300,23 @@ bool has_attribute(const File& file, const std::string& path, const std::string&
   return H5Aexists_by_name(file.id(), where.c_str(), name.c_str(), H5P_DEFAULT) > 0;
 }
 
+std::vector<std::string> list_attributes(const File& file, const std::string& path) {
+  std::vector<std::string> names;
+  const std::string where = root_relative(path);
+  if (where != "/" && !exists(file, path)) return names;
+  H5O_info_t info;
+  if (H5Oget_info_by_name2(file.id(), where.c_str(), &info, H5O_INFO_NUM_ATTRS, H5P_DEFAULT) < 0) return names;
+  for (hsize_t i = 0; i < info.num_attrs; ++i) {
+    const ssize_t size =
+        H5Aget_name_by_idx(file.id(), where.c_str(), H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (size < 0) continue;
+    std::string name(static_cast<std::size_t>(size), '\0');
+    H5Aget_name_by_idx(file.id(), where.c_str(), H5_INDEX_NAME, H5_ITER_INC, i, name.data(), size + 1, H5P_DEFAULT);
+    names.push_back(name);
+  }
+  return names;
+}
+
 double get_double(const File& file, const std::string& path, const std::string& name) {
   Handle attribute = open_attribute(file, path, name);
   double value = 0;

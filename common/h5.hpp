@@ -74,6 +74,8 @@ void set_attribute(const File& file, const std::string& path, const std::string&
 void set_attribute(const File& file, const std::string& path, const std::string& name, const std::string& value);
 void set_attribute(const File& file, const std::string& path, const std::string& name, const std::vector<double>& value);
 bool has_attribute(const File& file, const std::string& path, const std::string& name);
+// Names of the attributes on the object at `path`, alphabetical (none when it does not exist).
+std::vector<std::string> list_attributes(const File& file, const std::string& path);
 double get_double(const File& file, const std::string& path, const std::string& name);
 int64_t get_int(const File& file, const std::string& path, const std::string& name);
 std::string get_string(const File& file, const std::string& path, const std::string& name);

@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/model_io.hpp"
+#include "solver/particle_io.hpp"
 
 namespace talus::solver {
 namespace {
@@ -15,11 +16,26 @@ namespace {
 class Fingerprint {
  public:
   template <class T>
-  void add(const std::vector<T>& values) {
+  Fingerprint& add(const std::vector<T>& values) {
+    add(static_cast<uint64_t>(values.size()));
     add_bytes(values.data(), values.size() * sizeof(T));
+    return *this;
   }
-  void add(double value) { add_bytes(&value, sizeof value); }
-  uint64_t value() const { return hash_; }
+  Fingerprint& add(const std::string& text) {
+    add(static_cast<uint64_t>(text.size()));
+    add_bytes(text.data(), text.size());
+    return *this;
+  }
+  template <class T, class = std::enable_if_t<std::is_arithmetic_v<T>>>
+  Fingerprint& add(T value) {
+    add_bytes(&value, sizeof value);
+    return *this;
+  }
+  int64_t value() const {
+    int64_t stored = 0;
+    std::memcpy(&stored, &hash_, sizeof stored);
+    return stored;
+  }
 
  private:
   void add_bytes(const void* data, std::size_t size) {
@@ -29,47 +45,63 @@ class Fingerprint {
   uint64_t hash_ = 1469598103934665603ull;
 };
 
-template <class Vec>
-std::vector<Vec> read_rows(const h5::File& file, const std::string& path, std::size_t rows) {
-  constexpr int width = Vec::RowsAtCompileTime;
-  h5::Dims dims;
-  const std::vector<double> flat = h5::read_doubles(file, path, &dims);
-  if (dims.size() != 2 || dims[0] != rows || dims[1] != static_cast<hsize_t>(width))
-    throw Error(located(file.path(), path, "expected shape [" + std::to_string(rows) + "," + std::to_string(width) + "]"));
-  std::vector<Vec> out(rows);
-  for (std::size_t i = 0; i < rows; ++i)
-    for (int k = 0; k < width; ++k) {
-      out[i][k] = flat[i * width + k];
-      if (!std::isfinite(out[i][k])) throw Error(located(file.path(), path, "non-finite value in row " + std::to_string(i)));
-    }
-  return out;
-}
-
-template <class T, class Read>
-std::vector<T> read_column(const h5::File& file, const std::string& path, std::size_t rows, Read read) {
-  h5::Dims dims;
-  std::vector<T> values = read(file, path, &dims);
-  if (dims.size() != 1 || dims[0] != rows)
-    throw Error(located(file.path(), path, "expected " + std::to_string(rows) + " values"));
-  return values;
-}
-
 const char* const kLoopGroup = "loop";
+const char* const kFingerprintGroup = "fingerprint";
 
 }  // namespace
 
-uint64_t model_fingerprint(const Model& model) {
-  Fingerprint f;
-  f.add(flatten(model.nodes));
-  f.add(model.triangles);
-  f.add(flatten(model.position));
-  f.add(model.mass);
-  f.add(model.volume);
-  f.add(model.body);
-  for (double setting : {model.run.end_time, model.run.cfl, model.run.output_interval, model.run.gravity.x(),
-                         model.run.gravity.y(), model.run.gravity_ramp, model.run.damping, model.run.pic_fraction})
-    f.add(setting);
-  return f.value();
+std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& model) {
+  std::vector<std::pair<std::string, int64_t>> sections;
+  sections.emplace_back("mesh", Fingerprint().add(flatten(model.nodes)).add(model.triangles).value());
+  sections.emplace_back("boundary conditions", Fingerprint()
+                                                   .add(model.fixed_nodes)
+                                                   .add(model.roller_nodes)
+                                                   .add(flatten(model.roller_normals))
+                                                   .value());
+  sections.emplace_back("particles", Fingerprint()
+                                         .add(flatten(model.position))
+                                         .add(flatten(model.velocity))
+                                         .add(model.mass)
+                                         .add(model.volume)
+                                         .add(model.body)
+                                         .add(model.element)
+                                         .value());
+  sections.emplace_back("initial stress", Fingerprint().add(flatten(model.stress)).value());
+  Fingerprint bodies;
+  for (const auto& body : model.bodies) bodies.add(body.name).add(body.material).add(body.fixed);
+  sections.emplace_back("bodies", bodies.value());
+  for (const auto& m : model.materials)
+    sections.emplace_back("materials." + m.name, Fingerprint()
+                                                     .add(static_cast<int>(m.model))
+                                                     .add(m.density)
+                                                     .add(m.youngs_modulus)
+                                                     .add(m.poisson_ratio)
+                                                     .add(m.friction_angle)
+                                                     .add(m.cohesion)
+                                                     .add(m.dilation_angle)
+                                                     .add(m.tensile_strength)
+                                                     .value());
+  Fingerprint contact;
+  contact.add(model.contact.enabled).add(model.contact.friction);
+  for (const auto& pair : model.contact.pairs) contact.add(pair.body_a).add(pair.body_b).add(pair.friction);
+  sections.emplace_back("contact", contact.value());
+  const RunSettings& r = model.run;
+  sections.emplace_back("run settings", Fingerprint()
+                                            .add(r.end_time)
+                                            .add(r.cfl)
+                                            .add(r.output_interval)
+                                            .add(r.gravity.x())
+                                            .add(r.gravity.y())
+                                            .add(r.gravity_ramp)
+                                            .add(r.damping)
+                                            .add(r.evs)
+                                            .add(r.pic_fraction)
+                                            .add(r.history_interval)
+                                            .add(r.rest_ratio)
+                                            .add(r.rest_window)
+                                            .add(r.max_steps)
+                                            .value());
+  return sections;
 }
 
 std::string checkpoint_path(const std::string& out_dir) {
@@ -81,27 +113,19 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
   const std::string path = checkpoint_path(out_dir);
   h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
-    const uint64_t fingerprint = model_fingerprint(model);
-    int64_t stored = 0;
-    std::memcpy(&stored, &fingerprint, sizeof stored);
-    h5::set_attribute(file, "/", "model_fingerprint", stored);
+    h5::create_group(file, kFingerprintGroup);
+    for (const auto& [section, value] : model_fingerprints(model))
+      h5::set_attribute(file, kFingerprintGroup, section, value);
 
     const Particles& P = sim.particles;
-    const hsize_t n = P.size();
+    const std::size_t n = P.size();
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
     h5::set_attribute(file, "/", "moving_count", static_cast<int64_t>(P.moving_count));
     h5::set_attribute(file, "/", "time", sim.time);
     h5::set_attribute(file, "/", "steps", static_cast<int64_t>(sim.steps));
-    h5::write(file, "particles/x", flatten(P.x), {n, 2});
-    h5::write(file, "particles/v", flatten(P.v), {n, 2});
-    h5::write(file, "particles/m", P.m, {n});
-    h5::write(file, "particles/volume", P.volume, {n});
-    h5::write(file, "particles/sigma", flatten(P.sigma), {n, 4});
-    h5::write(file, "particles/eps_p", P.eps_p, {n});
-    h5::write(file, "particles/d_eps", flatten(P.d_eps), {n, 4});
-    h5::write(file, "particles/body", P.body, {n});
-    h5::write(file, "particles/element", P.element, {n});
-    h5::write(file, "particles/id", P.id, {n});
+    P.for_each_field([&](const FieldInfo& field, const auto& column) {
+      if (field.roles & kCheckpointed) write_column(file, std::string("particles/") + field.name, column, n);
+    });
 
     h5::create_group(file, kLoopGroup);
     h5::set_attribute(file, kLoopGroup, "next_output", loop.next_output);
@@ -116,6 +140,25 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
   });
 }
 
+namespace {
+
+// The sections of the model that differ from those the checkpoint was written for.
+std::string changed_sections(const h5::File& file, const Model& model) {
+  std::string changed;
+  for (const auto& [section, value] : model_fingerprints(model))
+    if (!h5::has_attribute(file, kFingerprintGroup, section) || h5::get_int(file, kFingerprintGroup, section) != value)
+      changed += (changed.empty() ? "" : ", ") + section;
+  const std::vector<std::pair<std::string, int64_t>> now = model_fingerprints(model);
+  for (const std::string& stored : h5::list_attributes(file, kFingerprintGroup)) {
+    bool known = false;
+    for (const auto& section : now) known = known || section.first == stored;
+    if (!known) changed += (changed.empty() ? "" : ", ") + stored + " (gone)";
+  }
+  return changed;
+}
+
+}  // namespace
+
 void read_checkpoint(const std::string& out_dir, const Model& model, Simulation& sim, LoopState& loop,
                      ResultsPosition& results) {
   const std::string path = checkpoint_path(out_dir);
@@ -124,11 +167,10 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
                                   "solve with Ctrl-C, to write one)"));
   h5::File file = h5::File::open_read(path);
   check_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
-  const uint64_t fingerprint = model_fingerprint(model);
-  int64_t expected = 0;
-  std::memcpy(&expected, &fingerprint, sizeof expected);
-  if (h5::get_int(file, "/", "model_fingerprint") != expected)
-    throw Error(located(path, "", "written for another model (or another version of this one): solve afresh"));
+  const std::string changed = changed_sections(file, model);
+  if (!changed.empty())
+    throw Error(located(path, "", "written for another model: " + changed +
+                                      " changed since (solve afresh, or restore the scene it was written for)"));
 
   const std::size_t n = model.particle_count();
   if (h5::get_int(file, "/", "particles") != static_cast<int64_t>(n))
@@ -136,31 +178,27 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
   const int64_t moving = h5::get_int(file, "/", "moving_count");
   if (moving < 0 || moving > static_cast<int64_t>(n)) throw Error(located(path, "moving_count", "out of range"));
 
-  Particles P;
-  P.x = read_rows<Vec2>(file, "particles/x", n);
-  P.v = read_rows<Vec2>(file, "particles/v", n);
-  P.sigma = read_rows<Vec4>(file, "particles/sigma", n);
-  P.d_eps = read_rows<Vec4>(file, "particles/d_eps", n);
-  P.m = read_column<double>(file, "particles/m", n, h5::read_doubles);
-  P.volume = read_column<double>(file, "particles/volume", n, h5::read_doubles);
-  P.eps_p = read_column<double>(file, "particles/eps_p", n, h5::read_doubles);
-  P.body = read_column<int32_t>(file, "particles/body", n, h5::read_ints);
-  P.element = read_column<int32_t>(file, "particles/element", n, h5::read_ints);
-  P.id = read_column<int32_t>(file, "particles/id", n, h5::read_ints);
+  // Every checkpointed field, in the widths make_simulation gave it for this model.
+  Particles P = sim.particles;
+  P.for_each_field([&](const FieldInfo& field, auto& column) {
+    if (field.roles & kCheckpointed) read_column(file, std::string("particles/") + field.name, column, n);
+  });
   P.moving_count = static_cast<std::size_t>(moving);
   std::vector<bool> seen(n, false);
+  const auto& fixed = sim.config.body_fixed;
   for (std::size_t p = 0; p < n; ++p) {
-    if (!(P.m[p] > 0) || !(P.volume[p] > 0) || !std::isfinite(P.eps_p[p]))
-      throw Error(located(path, "particles", "particle " + std::to_string(p) + " has a bad mass, volume or strain"));
-    if (P.body[p] < 0 || P.body[p] >= static_cast<int32_t>(sim.body_fixed.size()) || P.element[p] < 0 ||
-        P.element[p] >= static_cast<int32_t>(sim.mesh.element_count()) || P.id[p] < 0 ||
+    if (!(P.m[p] > 0) || !(P.volume[p] > 0))
+      throw Error(located(path, "particles", "particle " + std::to_string(p) + " has a bad mass or volume"));
+    if (P.body[p] < 0 || P.body[p] >= static_cast<int32_t>(fixed.size()) || P.element[p] < 0 ||
+        P.element[p] >= static_cast<int32_t>(sim.config.mesh.element_count()) || P.id[p] < 0 ||
         P.id[p] >= static_cast<int32_t>(n) || seen[P.id[p]])
       throw Error(located(path, "particles", "particle " + std::to_string(p) + " has an index out of range"));
     seen[P.id[p]] = true;
-    if (sim.body_fixed[P.body[p]] != (p >= P.moving_count))
+    if (fixed[P.body[p]] != (p >= P.moving_count))
       throw Error(located(path, "moving_count", "particles of fixed bodies must come after all the others"));
   }
   sim.particles = std::move(P);
+  compute_stencil(sim.config.mesh, sim.particles, 0, n, sim.scratch.stencil);
   sim.time = h5::get_double(file, "/", "time");
   sim.steps = static_cast<long>(h5::get_int(file, "/", "steps"));
   if (!std::isfinite(sim.time) || sim.time < 0 || sim.steps < 0)

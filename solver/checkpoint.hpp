@@ -1,15 +1,18 @@
 // Restart state of a solve (OUT/checkpoint.h5): everything the time loop needs to continue as
-// if it had never stopped. With one thread a restarted run gives the same frames, bit for bit,
-// as an uninterrupted one; docs/robustness.md says why more threads do not.
+// if it had never stopped. With the same thread count a restarted run gives the same frames,
+// bit for bit, as an uninterrupted one (the solver's sums are ordered by the thread count:
+// parallel.hpp).
 //
-// The file holds the particles in the solver's current (sorted) order with every per-particle
-// array, the simulation's time and step count, the loop's own state (next output and
-// checkpoint times, the peak kinetic energy, the rest timer, the energy budget) and how far
-// results.h5 had been written. It is written to checkpoint.h5.tmp and renamed, so a checkpoint
+// The file holds the particles in the solver's current (sorted) order with every checkpointed
+// field of the registry (particles.hpp), the simulation's time and step count, the loop's own
+// state (next output and checkpoint times, the peak kinetic energy, the rest timer, the energy
+// budget), how far results.h5 had been written, and the model's fingerprints. It is written to checkpoint.h5.tmp and renamed, so a checkpoint
 // is either the previous one or the new one, never half of either.
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/model.hpp"
 #include "solver/results.hpp"
@@ -17,7 +20,7 @@
 
 namespace talus::solver {
 
-inline constexpr int kCheckpointFormatVersion = 1;
+inline constexpr int kCheckpointFormatVersion = 2;
 
 // The time loop's state besides the simulation's.
 struct LoopState {
@@ -30,9 +33,10 @@ struct LoopState {
   double budget_limit = 0;     // J/m, the threshold derived from it
 };
 
-// A fingerprint of the model a checkpoint belongs to (mesh, particles, run settings), so that
-// a checkpoint is never continued on another model.
-uint64_t model_fingerprint(const Model& model);
+// Fingerprints of the model a checkpoint belongs to, one per section (mesh, boundary
+// conditions, particles, initial stress, bodies, each material, contact, run settings): a
+// restart on a model that differs in any of them is refused, naming the sections.
+std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& model);
 
 std::string checkpoint_path(const std::string& out_dir);
 

@@ -3,7 +3,7 @@
 #pragma once
 #include "common/scene.hpp"
 #include "solver/mohr_coulomb.hpp"
-#include "solver/state.hpp"
+#include "solver/mesh.hpp"
 
 namespace talus::solver {
 
@@ -13,18 +13,23 @@ struct MaterialState {
   double shear_modulus = 0, bulk_modulus = 0;  // plane strain uses the 3D moduli
   double wave_speed = 0;                       // c_d = sqrt((K + 4G/3) / rho)
   MohrCoulombParams mohr_coulomb{};
+  // State variables the material keeps per particle besides the stress and eps_p, in
+  // Particles::history (none for the materials so far).
+  int history_width = 0;
 };
 
 MaterialState make_material(const Material& material);
 
-// Objective stress update: sigma is already rotated (Jaumann) by the caller; adds the
-// material's response to the strain increment d_eps. Returns the increment of equivalent
-// plastic shear strain (0 for elastic materials).
-inline double update_stress(const MaterialState& material, Vec4& sigma, const Vec4& d_eps) {
+// Objective stress update of one particle: sigma is already rotated (Jaumann) by the caller;
+// adds the material's response to the strain increment d_eps and the increment of equivalent
+// plastic shear strain to eps_p (nothing for elastic materials). `history` points at the
+// particle's history_width state variables (unused so far).
+inline void update_stress(const MaterialState& material, Vec4& sigma, const Vec4& d_eps, double& eps_p,
+                          double* history) {
   switch (material.model) {
-    case MaterialModel::MohrCoulomb: return mohr_coulomb_update(material.mohr_coulomb, sigma, d_eps);
+    case MaterialModel::MohrCoulomb: eps_p += mohr_coulomb_update(material.mohr_coulomb, sigma, d_eps); return;
     case MaterialModel::LinearElastic:
-    default: elastic_update(material.shear_modulus, material.bulk_modulus, sigma, d_eps); return 0;
+    default: elastic_update(material.shear_modulus, material.bulk_modulus, sigma, d_eps); return;
   }
 }
 

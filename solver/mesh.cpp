@@ -2,7 +2,7 @@
 #include <limits>
 
 #include "common/error.hpp"
-#include "solver/state.hpp"
+#include "solver/mesh.hpp"
 
 namespace talus::solver {
 
@@ -55,13 +55,13 @@ int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x) {
 
 Constraints build_constraints(const Model& model) {
   Constraints c;
-  c.kind.assign(model.nodes.size(), 0);
+  c.kind.assign(model.nodes.size(), Constraint::Free);
   c.normal.assign(model.nodes.size(), Vec2::Zero());
   for (std::size_t k = 0; k < model.roller_nodes.size(); ++k) {
-    c.kind[model.roller_nodes[k]] = 2;
+    c.kind[model.roller_nodes[k]] = Constraint::Roller;
     c.normal[model.roller_nodes[k]] = model.roller_normals[k].normalized();
   }
-  for (int32_t i : model.fixed_nodes) c.kind[i] = 1;
+  for (int32_t i : model.fixed_nodes) c.kind[i] = Constraint::Fixed;
   return c;
 }
 

@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "common/model_io.hpp"
+#include "solver/particle_io.hpp"
 
 namespace talus::solver {
 
@@ -60,9 +61,25 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
   write_xdmf();
 }
 
+namespace {
+
+// The XDMF attribute names of a field's components.
+std::vector<std::string> component_names(const std::string& name, int width) {
+  if (width == 2) return {name + "_x", name + "_y"};
+  if (width == 4) return {name + "_xx", name + "_yy", name + "_zz", name + "_xy"};
+  if (width == 1) return {name};
+  std::vector<std::string> names;
+  for (int k = 0; k < width; ++k) names.push_back(name + "_" + std::to_string(k));
+  return names;
+}
+
+const char* const kVelocity = "velocity";
+
+}  // namespace
+
 void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fresh) {
   const hsize_t n = particles_;
-  auto frame_set = [&](const char* path, const h5::Dims& record, hsize_t chunk) {
+  auto frame_set = [&](const std::string& path, const h5::Dims& record, hsize_t chunk) {
     return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk)
                  : h5::Appendable::reopen(file_, path, record, frames);
   };
@@ -71,10 +88,17 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
                  : h5::Appendable::reopen(file_, path, {}, history_rows);
   };
   time_set_ = frame_set("frames/time", {}, 256);
-  position_ = frame_set("frames/position", {n, 2}, 1);
-  velocity_ = frame_set("frames/velocity", {n, 2}, 1);
-  stress_ = frame_set("frames/stress", {n, 4}, 1);
-  plastic_strain_ = frame_set("frames/plastic_strain", {n}, 1);
+  frame_sets_.clear();
+  auto add = [&](const std::string& name, int width) {
+    const h5::Dims record = width == 1 ? h5::Dims{n} : h5::Dims{n, static_cast<hsize_t>(width)};
+    frame_sets_.push_back({name, width, frame_set("frames/" + name, record, 1)});
+  };
+  add(kVelocity, 2);
+  Particles widths;  // the registry's element widths: one particle of every field
+  widths.for_each_field([&](const FieldInfo& field, auto& column) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    if (field.roles & kWritten) add(field.results_name, FieldElement<T>::width);
+  });
   history_time_ = history_set("history/time");
   history_kinetic_ = history_set("history/kinetic_energy");
   history_potential_ = history_set("history/potential_energy");
@@ -92,18 +116,19 @@ void ResultsWriter::write_frame(const Simulation& sim) {
   const Particles& P = sim.particles;
   const std::size_t n = particles_;
   // Frames are in the model's particle order (the solver keeps its own, sorted, order).
-  auto gather = [&](int width, auto value) {
-    scratch_.assign(n * width, 0.0);
+  auto append = [&](FrameSet& set, const auto& column) {
+    using E = FieldElement<typename std::decay_t<decltype(column)>::value_type>;
+    scratch_.assign(n * set.width, 0.0);
     for (std::size_t p = 0; p < n; ++p)
-      for (int k = 0; k < width; ++k) scratch_[P.id[p] * width + k] = value(p, k);
-    return scratch_.data();
+      for (int k = 0; k < set.width; ++k) scratch_[P.id[p] * set.width + k] = E::get(column[p], k);
+    set.data.append(scratch_.data());
   };
   time_set_.append(&sim.time);
-  position_.append(gather(2, [&](std::size_t p, int k) { return P.x[p][k]; }));
-  const std::vector<Vec2> velocity = grid_velocity_at_particles(sim);
-  velocity_.append(gather(2, [&](std::size_t p, int k) { return velocity[p][k]; }));
-  stress_.append(gather(4, [&](std::size_t p, int k) { return P.sigma[p][k]; }));
-  plastic_strain_.append(gather(1, [&](std::size_t p, int) { return P.eps_p[p]; }));
+  auto set = frame_sets_.begin();
+  append(*set++, grid_velocity_at_particles(sim));
+  P.for_each_field([&](const FieldInfo& field, const auto& column) {
+    if (field.roles & kWritten) append(*set++, column);
+  });
   time_.push_back(sim.time);
   flush_history();
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(sim.steps));
@@ -168,18 +193,15 @@ void ResultsWriter::write_xdmf() const {
     };
     for (std::size_t f = 0; f < time_.size(); ++f) {
       out << "<Grid Name=\"frame " << f << "\" GridType=\"Uniform\">\n<Time Value=\"" << time_[f] << "\"/>\n"
-          << "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n"
-          << "<Geometry GeometryType=\"XY\">\n" << slab(f, "position", 2, -1) << "</Geometry>\n";
-      out << "<Attribute Name=\"velocity_x\" AttributeType=\"Scalar\" Center=\"Node\">\n" << slab(f, "velocity", 2, 0)
-          << "</Attribute>\n";
-      out << "<Attribute Name=\"velocity_y\" AttributeType=\"Scalar\" Center=\"Node\">\n" << slab(f, "velocity", 2, 1)
-          << "</Attribute>\n";
-      const char* stress_names[] = {"stress_xx", "stress_yy", "stress_zz", "stress_xy"};
-      for (int k = 0; k < 4; ++k)
-        out << "<Attribute Name=\"" << stress_names[k] << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-            << slab(f, "stress", 4, k) << "</Attribute>\n";
-      out << "<Attribute Name=\"plastic_strain\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-          << slab(f, "plastic_strain", 1, -1) << "</Attribute>\n";
+          << "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n";
+      out << "<Geometry GeometryType=\"XY\">\n" << slab(f, "position", 2, -1) << "</Geometry>\n";
+      for (const FrameSet& set : frame_sets_) {
+        if (set.name == "position") continue;
+        const std::vector<std::string> names = component_names(set.name, set.width);
+        for (int k = 0; k < set.width; ++k)
+          out << "<Attribute Name=\"" << names[k] << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+              << slab(f, set.name, set.width, set.width == 1 ? -1 : k) << "</Attribute>\n";
+      }
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -1,5 +1,7 @@
 // Writes results.h5 frame by frame, flushing each, so that a run stopped midway leaves a
-// readable file with the frames so far; keeps results.xdmf beside it in step.
+// readable file with the frames so far; keeps results.xdmf beside it in step. The frame
+// datasets are the particle fields the registry marks as written (particles.hpp) plus the
+// velocity that moves each particle.
 #pragma once
 #include <string>
 #include <vector>
@@ -40,10 +42,19 @@ class ResultsWriter {
   void write_xdmf() const;
   void open_datasets(hsize_t frames, hsize_t history_rows, bool fresh);
 
+  // A per-frame dataset: frames/<name>, `width` values per particle.
+  struct FrameSet {
+    std::string name;
+    int width;
+    h5::Appendable data;
+  };
   std::string path_, xdmf_path_;
   std::size_t particles_;
   h5::File file_;
-  h5::Appendable time_set_, position_, velocity_, stress_, plastic_strain_;
+  h5::Appendable time_set_;
+  // frames/velocity (the grid velocity at the particles, derived) and then every field the
+  // registry marks kWritten, in its order (particles.hpp); position is the XDMF geometry.
+  std::vector<FrameSet> frame_sets_;
   h5::Appendable history_time_, history_kinetic_, history_potential_, history_strain_, history_particle_kinetic_;
   std::vector<double> time_;
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,

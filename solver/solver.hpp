@@ -12,7 +12,7 @@ namespace talus::solver {
 struct SolveOptions {
   std::string out_dir;   // results.h5 and results.xdmf go here
   bool progress = true;  // a progress line when stderr is a terminal
-  int threads = 0;       // 0: OpenMP's default
+  int threads = 0;       // 0: OpenMP's default (omp_get_max_threads)
   // Simulated seconds between checkpoints (OUT/checkpoint.h5, see checkpoint.hpp); 0: none,
   // except the one written when SIGINT or SIGTERM stops the run.
   double checkpoint_interval = 0;
@@ -29,6 +29,7 @@ struct Interrupted : std::runtime_error {
 struct SolveSummary {
   long steps = 0;
   std::size_t particles = 0;
+  int threads = 1;            // OpenMP threads of the time loop
   double simulated_time = 0;  // s
   double loop_seconds = 0;    // wall time of the time loop
   long frames = 0;

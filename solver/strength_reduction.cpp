@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "common/error.hpp"
+#include "solver/time_loop.hpp"
 
 namespace talus::solver {
 
@@ -82,63 +83,81 @@ long index_of(const Simulation& sim, int32_t id) {
   return found - ids.begin();
 }
 
-// Runs sim until the verdict of the header's criteria. Times in seconds, from sim.time now.
+// The verdict of the header's criteria, checked every check_interval steps. Times in seconds,
+// from the simulation's time when it was made.
+class TrialVerdict : public Observer {
+ public:
+  TrialVerdict(const Simulation& sim, const ReductionProblem& problem, double min_time, double budget, double window)
+      : s_(problem.settings), min_time_(min_time), budget_(budget), window_(window), monitor_id_(problem.monitor) {
+    const double g = sim.config.gravity.norm();
+    energy_scale_ = moving_mass(sim) * g * problem.height;
+    speed_scale_ = std::sqrt(g * problem.height);
+    limit_ = s_.displacement_limit * problem.height;
+    x_ref_ = x_last_ = monitor_position(sim);
+    t0_ = t_last_ = sim.time;
+    steps0_ = sim.steps;
+  }
+
+  bool wants_energies(const Simulation& sim) const override { return (sim.steps - steps0_) % s_.check_interval == 0; }
+
+  Verdict after_step(Simulation& sim, const StepEvent& event) override {
+    if (!event.energies_due) return Verdict::go_on();
+    const Vec2 x = monitor_position(sim);
+    const double t = sim.time;
+    outcome.monitor_displacement = (x - x_ref_).norm();
+    outcome.kinetic_ratio = event.energies().grid_kinetic / energy_scale_;
+    const double rate = (x - x_last_).norm() / (t - t_last_) / speed_scale_;
+    x_last_ = x;
+    t_last_ = t;
+    if (!std::isfinite(outcome.kinetic_ratio)) return Verdict::fail("blow-up");
+    if (outcome.monitor_displacement > limit_) return Verdict::fail("displacement limit");
+    const bool quiet = outcome.kinetic_ratio < s_.kinetic_tolerance && rate < s_.rate_tolerance;
+    if (!quiet || t - t0_ < min_time_) quiet_since_ = -1;
+    else if (quiet_since_ < 0) quiet_since_ = t;
+    if (quiet_since_ >= 0 && t - quiet_since_ >= window_) return Verdict::stop("equilibrium");
+    if (t - t0_ >= budget_) return Verdict::fail("step budget");
+    return Verdict::go_on();
+  }
+
+  TrialOutcome outcome;
+  double t0() const { return t0_; }
+  long steps0() const { return steps0_; }
+
+ private:
+  // The monitoring particle's position; its index is looked up again after a re-ordering.
+  Vec2 monitor_position(const Simulation& sim) {
+    if (monitor_reorders_ != sim.reorders) {
+      monitor_ = index_of(sim, monitor_id_);
+      monitor_reorders_ = sim.reorders;
+    }
+    return sim.particles.x[monitor_];
+  }
+
+  const ReductionSettings& s_;
+  double min_time_, budget_, window_;
+  int32_t monitor_id_;
+  long monitor_ = 0, monitor_reorders_ = -1;
+  double energy_scale_ = 0, speed_scale_ = 0, limit_ = 0;
+  Vec2 x_ref_, x_last_;
+  double t0_ = 0, t_last_ = 0, quiet_since_ = -1;
+  long steps0_ = 0;
+};
+
+// Runs sim until the verdict, through the one time loop with the particle sorter and the
+// blow-up budget of every run.
 TrialOutcome run_to_verdict(Simulation& sim, const ReductionProblem& problem, double min_time, double budget,
                             double window) {
-  const ReductionSettings& s = problem.settings;
   const auto start = Clock::now();
-  const double g = sim.gravity.norm();
-  const double energy_scale = moving_mass(sim) * g * problem.height;
-  const double speed_scale = std::sqrt(g * problem.height);
-  const double limit = s.displacement_limit * problem.height;
-  const long monitor = index_of(sim, problem.monitor);
-  const Vec2 x_ref = sim.particles.x[monitor];
-  const double t0 = sim.time;
-  const long steps0 = sim.steps;
-
-  TrialOutcome out;
-  Vec2 x_last = x_ref;
-  double t_last = t0, quiet_since = -1;
-  while (true) {
-    const double dt = stable_time_step(sim, s.cfl);
-    if (!std::isfinite(dt) || dt <= 0 || !step(sim, dt)) {
-      out.failed = true;
-      out.reason = "blow-up";
-      break;
-    }
-    if ((sim.steps - steps0) % s.check_interval != 0) continue;
-    const Vec2& x = sim.particles.x[monitor];
-    const double t = sim.time;
-    out.monitor_displacement = (x - x_ref).norm();
-    out.kinetic_ratio = energies(sim).grid_kinetic / energy_scale;
-    const double rate = (x - x_last).norm() / (t - t_last) / speed_scale;
-    x_last = x;
-    t_last = t;
-    if (!std::isfinite(out.kinetic_ratio)) {
-      out.failed = true;
-      out.reason = "blow-up";
-      break;
-    }
-    if (out.monitor_displacement > limit) {
-      out.failed = true;
-      out.reason = "displacement limit";
-      break;
-    }
-    const bool quiet = out.kinetic_ratio < s.kinetic_tolerance && rate < s.rate_tolerance;
-    if (!quiet || t - t0 < min_time) quiet_since = -1;
-    else if (quiet_since < 0) quiet_since = t;
-    if (quiet_since >= 0 && t - quiet_since >= window) {
-      out.reason = "equilibrium";
-      break;
-    }
-    if (t - t0 >= budget) {
-      out.failed = true;
-      out.reason = "step budget";
-      break;
-    }
-  }
-  out.steps = sim.steps - steps0;
-  out.simulated_time = sim.time - t0;
+  ParticleSorter sorter;
+  BlowUpBudget blow_up = BlowUpBudget::starting_from(sim, energies(sim));
+  TrialVerdict verdict(sim, problem, min_time, budget, window);
+  const LoopEnd end = run_time_loop(sim, problem.settings.cfl, kNever, {&sorter, &blow_up, &verdict});
+  TrialOutcome out = verdict.outcome;
+  out.failed = end.kind != LoopEnd::Stopped;
+  out.reason = end.kind == LoopEnd::Stopped || end.kind == LoopEnd::Failed ? end.reason : "blow-up";
+  if (end.kind == LoopEnd::Failed && end.reason.rfind("numerical blow-up", 0) == 0) out.reason = "blow-up";
+  out.steps = sim.steps - verdict.steps0();
+  out.simulated_time = sim.time - verdict.t0();
   out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return out;
 }
@@ -167,7 +186,7 @@ void reduce_strength(Simulation& sim, const Model& model, double factor) {
     const double phi = degrees(std::atan(std::tan(radians(m.friction_angle)) / factor));
     const double psi = degrees(std::atan(std::tan(radians(m.dilation_angle)) / factor));
     const double tension = m.tensile_strength < 0 ? m.tensile_strength : m.tensile_strength / factor;
-    sim.materials[i].mohr_coulomb =
+    sim.config.materials[i].mohr_coulomb =
         MohrCoulombParams::from(m.youngs_modulus, m.poisson_ratio, phi, m.cohesion / factor, std::min(psi, phi), tension);
   }
 }
@@ -178,8 +197,8 @@ EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threa
   EquilibriumState state;
   for (double factor : kEquilibriumFactors) {
     Simulation sim = make_simulation(*problem.model, threads);
-    sim.damping = s.damping;
-    sim.gravity_ramp = s.ramp * period;
+    sim.config.damping = s.damping;
+    sim.config.gravity_ramp = s.ramp * period;
     reduce_strength(sim, *problem.model, factor);
     EquilibriumAttempt attempt{factor, run_to_verdict(sim, problem, (s.ramp + s.min_time) * period,
                                                       (s.ramp + s.budget) * period, s.window * period)};
@@ -204,6 +223,7 @@ TrialOutcome run_trial(const ReductionProblem& problem, const EquilibriumState& 
   const ReductionSettings& s = problem.settings;
   const double period = elastic_period(problem);
   Simulation sim = equilibrium.sim;
+  set_threads(sim, 1);  // one core per trial: the trials are the parallelism
   reduce_strength(sim, *problem.model, factor);
   TrialOutcome out = run_to_verdict(sim, problem, s.min_time * period, s.budget * period, s.window * period);
   out.factor = factor;
@@ -219,7 +239,6 @@ std::vector<TrialOutcome> run_trials(const ReductionProblem& problem, const Equi
   std::mutex lock;
   std::exception_ptr error;
   auto work = [&] {
-    omp_set_num_threads(1);  // one core per trial: the trials are the parallelism
     for (std::size_t k; (k = next++) < factors.size();) {
       try {
         outcomes[k] = run_trial(problem, equilibrium, factors[k]);

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <future>
 
-#include "solver/simulation.hpp"
+#include "solver/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

@@ -11,7 +11,7 @@
 
 #include "common/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/simulation.hpp"
+#include "solver/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

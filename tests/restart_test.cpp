@@ -1,11 +1,13 @@
 // Interrupting and restarting a solve through the talus binary: SIGTERM midway stops it with
 // status 143, a checkpoint and a readable, incomplete results.h5; --restart then finishes the
-// run with frames identical, bit for bit (one thread), to those of an uninterrupted run.
+// run with frames identical, bit for bit, to those of an uninterrupted run on the same number
+// of threads (one or two). A restart on a changed model is refused, naming what changed.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "common/h5.hpp"
+#include "solver/checkpoint.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -49,12 +51,16 @@ class Restart : public ::testing::Test {
 };
 ScratchDir* Restart::dir_ = nullptr;
 
-TEST_F(Restart, SigtermMidwayThenRestartGivesTheUninterruptedFramesBitForBit) {
-  const fs::path whole = dir_->path() / "whole", parts = dir_->path() / "parts";
-  const auto uninterrupted = run_talus("solve " + model() + " --threads 1 --quiet --out " + whole.string());
+// Solves uninterrupted and stopped-then-restarted on `threads` threads; the frames and the
+// history must agree bit for bit. With `check_refusals`, a checkpoint of another format
+// version and one of a changed model are refused first.
+void expect_restart_bit_for_bit(const std::string& model, const fs::path& dir, int threads, bool check_refusals) {
+  const std::string t = " --threads " + std::to_string(threads);
+  const fs::path whole = dir / "whole", parts = dir / "parts";
+  const auto uninterrupted = run_talus("solve " + model + t + " --quiet --out " + whole.string());
   ASSERT_EQ(uninterrupted.status, 0) << uninterrupted.output;
 
-  const auto stopped = interrupt("solve " + model() + " --threads 1 --quiet --checkpoint-interval 0.01 --out " +
+  const auto stopped = interrupt("solve " + model + t + " --quiet --checkpoint-interval 0.01 --out " +
                                      parts.string(),
                                  parts / "checkpoint.h5", "TERM");
   ASSERT_EQ(stopped.status, 143) << stopped.output;
@@ -71,19 +77,38 @@ TEST_F(Restart, SigtermMidwayThenRestartGivesTheUninterruptedFramesBitForBit) {
     EXPECT_LT(times.back(), 0.12) << "the run was not stopped midway";
   }
 
-  // A checkpoint of another format version is refused with both versions.
-  const fs::path other = dir_->path() / "other-version";
-  fs::create_directories(other);
-  fs::copy(parts, other, fs::copy_options::recursive);
-  {
-    h5::File file = h5::File::open_write((other / "checkpoint.h5").string());
-    h5::set_attribute(file, "/", "format_version", int64_t{7});
-  }
-  const auto refused = run_talus("solve " + model() + " --threads 1 --quiet --restart --out " + other.string());
-  EXPECT_EQ(refused.status, 1) << refused.output;
-  EXPECT_NE(refused.output.find("file has version 7, this talus reads version 1"), std::string::npos) << refused.output;
+  if (check_refusals) {
+    // A checkpoint of another format version is refused with both versions.
+    const fs::path other = dir / "other-version";
+    fs::create_directories(other);
+    fs::copy(parts, other, fs::copy_options::recursive);
+    {
+      h5::File file = h5::File::open_write((other / "checkpoint.h5").string());
+      h5::set_attribute(file, "/", "format_version", int64_t{7});
+    }
+    const auto refused = run_talus("solve " + model + t + " --quiet --restart --out " + other.string());
+    EXPECT_EQ(refused.status, 1) << refused.output;
+    EXPECT_NE(refused.output.find("file has version 7, this talus reads version " +
+                                  std::to_string(solver::kCheckpointFormatVersion)),
+              std::string::npos)
+        << refused.output;
 
-  const auto restarted = run_talus("solve " + model() + " --threads 1 --quiet --restart --out " + parts.string());
+    // A model meshed from a changed scene is refused, naming what changed.
+    const fs::path changed = dir / "changed-scene";
+    fs::create_directories(changed);
+    fs::copy(parts, changed, fs::copy_options::recursive);
+    const auto meshed = run_talus("mesh " + testing::source_path("geometries/spring_mass.toml") +
+                                  " --quiet --set materials.spring.youngs_modulus=6e5 --set run.cfl=0.4 --out " +
+                                  (changed / "model").string());
+    ASSERT_EQ(meshed.status, 0) << meshed.output;
+    const auto stale = run_talus("solve " + (changed / "model" / "model.h5").string() + t +
+                                 " --quiet --restart --out " + changed.string());
+    EXPECT_EQ(stale.status, 1) << stale.output;
+    EXPECT_NE(stale.output.find("materials.spring, run settings changed"), std::string::npos) << stale.output;
+    EXPECT_EQ(stale.output.find("materials.block"), std::string::npos) << stale.output;
+  }
+
+  const auto restarted = run_talus("solve " + model + t + " --quiet --restart --out " + parts.string());
   ASSERT_EQ(restarted.status, 0) << restarted.output;
   EXPECT_FALSE(fs::exists(parts / "checkpoint.h5")) << "a complete run leaves no checkpoint";
 
@@ -100,6 +125,14 @@ TEST_F(Restart, SigtermMidwayThenRestartGivesTheUninterruptedFramesBitForBit) {
     for (std::size_t i = 0; i < expected.size(); ++i) differing += actual[i] != expected[i];
     EXPECT_EQ(differing, 0u) << "values differ from the uninterrupted run";
   }
+}
+
+TEST_F(Restart, SigtermMidwayThenRestartGivesTheUninterruptedFramesBitForBit) {
+  expect_restart_bit_for_bit(model(), dir_->path() / "one-thread", 1, true);
+}
+
+TEST_F(Restart, BitForBitOnTwoThreadsToo) {
+  expect_restart_bit_for_bit(model(), dir_->path() / "two-threads", 2, false);
 }
 
 TEST_F(Restart, SigintStopsWithStatus130AndAClosedReadableFile) {

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "solver/simulation.hpp"
+#include "solver/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;
@@ -30,10 +30,18 @@ Model jittered_mesh(int nx, int ny, double h, unsigned seed) {
   return model;
 }
 
-double total_mass(const Grid& grid) {
+double total_mass(const Grids& grids) {
   double m = 0;
-  for (int32_t i : grid.active) m += grid.m[i];
+  for (int32_t i : grids.active) m += grids.fields[0].m[i];
   return m;
+}
+
+// The first phases of step(), called as it calls them: the active nodes, then P2G (A.6)-(A.8).
+void map_to_grid(Simulation& sim) {
+  Scratch& s = sim.scratch;
+  const int threads = sim.config.threads;
+  mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, threads);
+  particles_to_grid(sim.particles, s.stencil, gravity_at(sim.config, sim.time), s.grids, s.buffers, threads);
 }
 
 }  // namespace
@@ -94,20 +102,22 @@ TEST(GridTransfer, ParticleToGridConservesMassAndMomentum) {
   }
   set_run(model, 1.0);
   Simulation sim = make_simulation(model, 2);
-  mark_active_nodes(sim);
-  particles_to_grid(sim);
-  const Grid& grid = sim.fields[0];
+  map_to_grid(sim);
+  const Grids& grids = sim.scratch.grids;
+  const Grid& grid = grids.fields[0];
   Vec2 grid_momentum = Vec2::Zero();
-  for (int32_t i : grid.active) grid_momentum += grid.p[i];
-  EXPECT_NEAR(total_mass(grid), mass, 1e-13 * mass);
+  for (int32_t i : grids.active) grid_momentum += grid.p[i];
+  EXPECT_NEAR(total_mass(grids), mass, 1e-13 * mass);
   EXPECT_NEAR((grid_momentum - momentum).norm(), 0.0, 1e-12 * mass);
 
   // G2P with zero acceleration, then the remap (A.11): momentum is carried back unchanged.
-  update_grid_accelerations(sim, 0.0);
-  update_particle_velocities(sim, 0.0);
-  remap_grid_velocities(sim);
+  Scratch& s = sim.scratch;
+  const Config& c = sim.config;
+  update_grid_accelerations(c.constraints, c.body_fixed, c.damping, 0.0, s.grids, c.threads);
+  update_particle_velocities(sim.particles, s.stencil, 0.0, s.grids, s.buffers, c.threads);
+  remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, c.threads);
   Vec2 remapped = Vec2::Zero();
-  for (int32_t i : grid.active) remapped += grid.m[i] * grid.v[i];
+  for (int32_t i : grids.active) remapped += grid.m[i] * grid.v[i];
   EXPECT_NEAR((remapped - momentum).norm(), 0.0, 1e-12 * mass);
 }
 
@@ -120,11 +130,11 @@ TEST(GridTransfer, InternalForcesSumToZero) {
   for (auto& s : model.stress) s = Vec4(stress(random), stress(random), stress(random), stress(random));
   set_run(model, 1.0);
   Simulation sim = make_simulation(model, 2);
-  mark_active_nodes(sim);
-  particles_to_grid(sim);
+  map_to_grid(sim);
+  const Grids& grids = sim.scratch.grids;
   Vec2 total = Vec2::Zero();
   double scale = 0;
-  for (int32_t i : sim.fields[0].active) total += sim.fields[0].f[i], scale += sim.fields[0].f[i].norm();
+  for (int32_t i : grids.active) total += grids.fields[0].f[i], scale += grids.fields[0].f[i].norm();
   EXPECT_LT(total.norm(), 1e-12 * scale);
 }
 

@@ -1,6 +1,5 @@
-// The solver's data: background mesh with precomputed element geometry, particles as a
-// struct of arrays, and grid fields as dense per-node arrays. Plain data, no behaviour beyond
-// small inline accessors: the phases of the step (step.hpp) operate on it.
+// The background mesh as the solver uses it: linear triangles with their precomputed shape
+// functions, neighbours for the relocation walk, and the per-node boundary constraints.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -43,38 +42,20 @@ Mesh build_mesh(const Model& model);
 // weight. Returns the containing element, or -1 when the walk leaves the domain.
 int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x);
 
-// Particles: one array per field. Particles of fixed bodies are kept after all the others
-// (indices [moving_count, size)), so the update loops run over [0, moving_count) only.
-struct Particles {
-  std::vector<Vec2> x, v;             // position (m), velocity (m/s)
-  std::vector<double> m, volume;      // mass (kg/m), volume (m^2 per m thickness)
-  std::vector<Vec4> sigma;            // Cauchy stress (Pa)
-  std::vector<double> eps_p;          // equivalent plastic shear strain (-)
-  std::vector<Vec4> d_eps;            // this step's strain increment (scratch)
-  std::vector<int32_t> body, element;
-  std::vector<int32_t> id;            // index in the model's (and the results') order
-  std::size_t moving_count = 0;
+// Per-node boundary constraints on the velocity.
+enum class Constraint : uint8_t { Free = 0, Fixed = 1, Roller = 2 };
 
-  std::size_t size() const { return x.size(); }
-};
-
-// Node fields of the whole system. Reset each step only where active.
-struct Grid {
-  std::vector<double> m;   // lumped mass (A.6)
-  std::vector<Vec2> p;     // momentum
-  std::vector<Vec2> f;     // total force, internal (A.8) plus external (A.7)
-  std::vector<Vec2> a;     // acceleration
-  std::vector<Vec2> v;     // velocity after the remap (A.11)
-  std::vector<Vec2> mass_gradient;  // sum m_p grad N_ip: the outward normal (contact only)
-  std::vector<int32_t> active;  // nodes touched by particles this step
-};
-
-// Per-node boundary constraints: 0 free, 1 fixed, 2 roller along `normal`.
 struct Constraints {
-  std::vector<uint8_t> kind;
-  std::vector<Vec2> normal;
+  std::vector<Constraint> kind;
+  std::vector<Vec2> normal;  // unit normal of a roller: the velocity along it is zero
 };
 
 Constraints build_constraints(const Model& model);
+
+// Zeroes the velocity (or acceleration) component that node i's constraint forbids.
+inline void constrain(const Constraints& c, int32_t i, Vec2& value) {
+  if (c.kind[i] == Constraint::Fixed) value.setZero();
+  else if (c.kind[i] == Constraint::Roller) value -= value.dot(c.normal[i]) * c.normal[i];
+}
 
 }  // namespace talus::solver

@@ -1,0 +1,80 @@
+// What the time loop and the outputs read off a simulation without changing it: gravity at a
+// time, the stable step, the energies, and the velocity that moves each particle.
+#include <cmath>
+
+#include "solver/parallel.hpp"
+#include "solver/simulation.hpp"
+
+namespace talus::solver {
+
+Vec2 gravity_at(const Config& config, double t) {
+  if (t >= config.gravity_ramp) return config.gravity;
+  return 0.5 * (1 - std::cos(M_PI * t / config.gravity_ramp)) * config.gravity;
+}
+
+double stable_time_step(const Simulation& sim, double cfl) {
+  double wave_speed = 0;
+  for (const auto& material : sim.config.materials) wave_speed = std::max(wave_speed, material.wave_speed);
+  double max_speed = 0;
+  const Particles& P = sim.particles;
+  const long n = static_cast<long>(P.moving_count);
+#pragma omp parallel for reduction(max : max_speed) schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < n; ++p) max_speed = std::max(max_speed, P.v[p].norm());
+  return cfl * sim.config.mesh.h_min / (wave_speed + max_speed);  // (A.13)
+}
+
+namespace {
+
+struct ParticleEnergies {
+  double kinetic = 0, potential = 0, strain = 0;
+  ParticleEnergies& operator+=(const ParticleEnergies& o) {
+    kinetic += o.kinetic;
+    potential += o.potential;
+    strain += o.strain;
+    return *this;
+  }
+};
+
+}  // namespace
+
+Energies energies(const Simulation& sim) {
+  const Particles& P = sim.particles;
+  const Config& c = sim.config;
+  const int threads = c.threads;
+  const ParticleEnergies sums =
+      ordered_sum<ParticleEnergies>(static_cast<long>(P.moving_count), threads, [&](long p) {
+        return ParticleEnergies{0.5 * P.m[p] * P.v[p].squaredNorm(), -P.m[p] * c.gravity.dot(P.x[p]),
+                                P.volume[p] * elastic_energy_density(c.materials[c.material_of_body[P.body[p]]],
+                                                                     P.sigma[p])};
+      });
+  // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
+  // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they
+  // move nothing and would keep a deposit at rest from ever looking so.
+  double grid_kinetic = 0;
+  const Grids& grids = sim.scratch.grids;
+  const long count = static_cast<long>(grids.active.size());
+  for (const Grid& grid : grids.fields)
+    grid_kinetic += ordered_sum<double>(count, threads, [&](long k) {
+      const int32_t i = grids.active[k];
+      return 0.5 * grid.m[i] * grid.v[i].squaredNorm();
+    });
+  return {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+}
+
+std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
+  const Particles& P = sim.particles;
+  if (sim.steps == 0) return P.v;  // no grid field yet: the initial velocities
+  std::vector<Vec2> velocity(P.size(), Vec2::Zero());
+  const Stencil& S = sim.scratch.stencil;
+  const Grids& grids = sim.scratch.grids;
+  const long moving = static_cast<long>(P.moving_count);
+#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < moving; ++p) {
+    const Grid& grid = grids.fields[grids.field_of(P.body[p])];
+    const std::size_t r = S.row(p);
+    for (int k = 0; k < S.width; ++k) velocity[p] += S.N[r + k] * grid.v[S.node[r + k]];
+  }
+  return velocity;
+}
+
+}  // namespace talus::solver

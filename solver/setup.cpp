@@ -1,0 +1,170 @@
+// Building a simulation from a model, sizing its scratch for a thread count, and keeping the
+// particles ordered by element.
+#include <algorithm>
+#include <numeric>
+
+#include "common/error.hpp"
+#include "solver/simulation.hpp"
+
+namespace talus::solver {
+namespace {
+
+void resize_grid(Grid& grid, std::size_t nodes, bool contact) {
+  grid.m.assign(nodes, 0);
+  grid.p.assign(nodes, Vec2::Zero());
+  grid.f.assign(nodes, Vec2::Zero());
+  grid.a.assign(nodes, Vec2::Zero());
+  grid.v.assign(nodes, Vec2::Zero());
+  if (contact) grid.mass_gradient.assign(nodes, Vec2::Zero());
+}
+
+// The particles of the model, in model order, each located in its element.
+Particles particles_of(const Model& model, const Config& config) {
+  Particles P;
+  const std::size_t n = model.particle_count();
+  P.x = model.position;
+  P.v = model.velocity;
+  P.m = model.mass;
+  P.volume = model.volume;
+  P.sigma = model.stress;
+  P.eps_p.assign(n, 0);
+  for (const auto& material : config.materials) P.history_width = std::max(P.history_width, material.history_width);
+  P.history.assign(n * static_cast<std::size_t>(P.history_width), 0);
+  P.body = model.body;
+  P.element = model.element;
+  P.id.resize(n);
+  std::iota(P.id.begin(), P.id.end(), 0);
+  for (std::size_t p = 0; p < n; ++p) {
+    const int32_t e = locate(config.mesh, P.element[p], P.x[p]);
+    if (e < 0)
+      throw Error("model: particle " + std::to_string(p) + " at (" + std::to_string(P.x[p].x()) + ", " +
+                  std::to_string(P.x[p].y()) + ") is outside the background mesh");
+    P.element[p] = e;
+    if (config.body_fixed[P.body[p]]) P.v[p].setZero();
+  }
+  return P;
+}
+
+template <class T>
+void permute_column(std::vector<T>& values, const std::vector<int32_t>& order) {
+  const std::size_t width = width_of(values, order.size());
+  if (width == 0) return;
+  std::vector<T> sorted(values.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    std::copy_n(values.begin() + order[k] * width, width, sorted.begin() + k * width);
+  values.swap(sorted);
+}
+
+}  // namespace
+
+void permute_particles(Particles& particles, const std::vector<int32_t>& order) {
+  particles.for_each_field([&](const FieldInfo&, auto& column) { permute_column(column, order); });
+}
+
+Simulation make_simulation(const Model& model, int threads) {
+  Simulation sim;
+  Config& config = sim.config;
+  config.mesh = build_mesh(model);
+  config.constraints = build_constraints(model);
+  config.gravity = model.run.gravity;
+  config.gravity_ramp = model.run.gravity_ramp;
+  config.damping = model.run.damping;
+  config.pic_fraction = model.run.pic_fraction;
+  config.evs = model.run.evs;
+  for (const auto& material : model.materials) config.materials.push_back(make_material(material));
+  for (const auto& body : model.bodies) {
+    config.material_of_body.push_back(body.material);
+    config.body_fixed.push_back(body.fixed);
+  }
+  sim.particles = particles_of(model, config);
+  reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, sim.particles.size());
+  sort_particles(sim);
+  sim.reorders = 0;
+
+  // The contact pass runs only where bodies can meet: two or more bodies, contact on.
+  const std::size_t bodies = model.bodies.size();
+  config.contact = model.contact.enabled && bodies > 1;
+  if (config.contact) {
+    config.pair_friction.assign(bodies, std::vector<double>(bodies, model.contact.friction));
+    for (std::size_t i = 0; i < bodies; ++i)
+      for (std::size_t j = 0; j < bodies; ++j)
+        config.pair_friction[i][j] = pair_friction(model.contact, model.bodies[i].name, model.bodies[j].name);
+  } else {
+    // One velocity field: a fixed body is a rigid support, so the nodes it touches do not move.
+    const Particles& P = sim.particles;
+    const Stencil& S = sim.scratch.stencil;
+    for (std::size_t p = P.moving_count; p < P.size(); ++p)
+      for (int k = 0; k < S.width; ++k) config.constraints.kind[S.node[S.row(p) + k]] = Constraint::Fixed;
+  }
+
+  Scratch& scratch = sim.scratch;
+  const std::size_t nodes = config.mesh.node_count();
+  scratch.grids.per_body = config.contact;
+  scratch.grids.fields.resize(config.contact ? bodies : 1);
+  for (auto& grid : scratch.grids.fields) resize_grid(grid, nodes, config.contact);
+  scratch.node_stamp.assign(nodes, 0);
+  scratch.d_eps.assign(sim.particles.size(), Vec4::Zero());
+  if (config.evs) {
+    const std::size_t elements = config.mesh.element_count();
+    scratch.evs.strain.assign(elements, 0);
+    scratch.evs.volume.assign(elements, 0);
+    scratch.evs.node_strain.assign(nodes, 0);
+    scratch.evs.node_area.assign(nodes, 0);
+  }
+  set_threads(sim, threads);
+  return sim;
+}
+
+void set_threads(Simulation& sim, int threads) {
+  threads = std::max(threads, 1);
+  sim.config.threads = threads;
+  Scratch& scratch = sim.scratch;
+  const std::size_t nodes = sim.config.mesh.node_count();
+  const std::size_t fields = scratch.grids.fields.size();
+  const bool contact = sim.config.contact;
+  scratch.buffers.assign(threads, std::vector<NodeBuffer>(fields));
+  for (auto& per_thread : scratch.buffers)
+    for (auto& buffer : per_thread) {
+      buffer.m.assign(nodes, 0);
+      buffer.p.assign(nodes, Vec2::Zero());
+      buffer.f.assign(nodes, Vec2::Zero());
+      if (contact) buffer.mass_gradient.assign(nodes, Vec2::Zero());
+    }
+  if (sim.config.evs) {
+    const std::size_t elements = sim.config.mesh.element_count();
+    scratch.evs.element_strain.assign(threads, std::vector<double>(elements, 0.0));
+    scratch.evs.element_volume.assign(threads, std::vector<double>(elements, 0.0));
+  }
+}
+
+void sort_particles(Simulation& sim) {
+  Particles& P = sim.particles;
+  const std::size_t n = P.size();
+  const auto& fixed = sim.config.body_fixed;
+  std::vector<int32_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
+    const bool fa = fixed[P.body[a]], fb = fixed[P.body[b]];
+    return fa != fb ? fb : P.element[a] < P.element[b];
+  });
+  permute_particles(P, order);
+  P.moving_count = 0;
+  while (P.moving_count < n && !fixed[P.body[P.moving_count]]) ++P.moving_count;
+  compute_stencil(sim.config.mesh, P, 0, n, sim.scratch.stencil);
+  ++sim.reorders;
+}
+
+void reset_stencil(Stencil& stencil, ShapeFamily family, std::size_t particles) {
+  stencil.family = family;
+  stencil.width = 3;
+  stencil.node.assign(particles * stencil.width, 0);
+  stencil.N.assign(particles * stencil.width, 0);
+  stencil.dN.assign(particles * stencil.width, Vec2::Zero());
+}
+
+void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
+                     Stencil& stencil) {
+  for (std::size_t p = begin; p < end; ++p) compute_stencil_row(mesh, particles.x[p], particles.element[p], p, stencil);
+}
+
+}  // namespace talus::solver

@@ -1,0 +1,109 @@
+#include "solver/solve_observers.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace talus::solver {
+
+Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
+  if (due(sim)) write(sim);
+  return Verdict::go_on();
+}
+
+void FrameWriter::write(const Simulation& sim) {
+  writer_.write_frame(sim);
+  last_step_ = sim.steps;
+  while (loop_.next_output <= sim.time + tolerance_) loop_.next_output += interval_;
+}
+
+Verdict HistoryRecorder::after_step(Simulation& sim, const StepEvent& event) {
+  if (event.energies_due) writer_.record_history(sim, event.energies());
+  return Verdict::go_on();
+}
+
+Verdict RestDetector::after_step(Simulation& sim, const StepEvent& event) {
+  if (event.energies_due) {
+    // Rest is judged on the grid's kinetic energy: the motion of the material itself.
+    const double kinetic = event.energies().grid_kinetic;
+    if (kinetic > loop_.peak_kinetic) loop_.peak_kinetic = kinetic, loop_.peak_time = sim.time;
+    if (ratio_ > 0 && loop_.peak_kinetic > 0 && sim.time > loop_.peak_time && kinetic < ratio_ * loop_.peak_kinetic) {
+      if (loop_.rest_since < 0) loop_.rest_since = sim.time;
+    } else {
+      loop_.rest_since = -1;
+    }
+  }
+  return at_rest(sim) ? Verdict::stop("at rest") : Verdict::go_on();
+}
+
+ProgressLine::ProgressLine(bool enabled, double end_time)
+    : enabled_(enabled && isatty(STDERR_FILENO)), end_time_(end_time) {}
+
+Verdict ProgressLine::after_step(Simulation& sim, const StepEvent& event) {
+  if (!enabled_) return Verdict::go_on();
+  const auto now = Clock::now();
+  if (now - last_ < std::chrono::milliseconds(250)) return Verdict::go_on();
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double eta = sim.time > 0 ? elapsed * (end_time_ - sim.time) / sim.time : 0;
+  std::fprintf(stderr, "\r  step %ld  t = %.4g / %.4g s  dt = %.3e s  ETA %.0f s   ", sim.steps, sim.time, end_time_,
+               event.dt, eta);
+  std::fflush(stderr);
+  shown_ = true;
+  return Verdict::go_on();
+}
+
+void ProgressLine::done() {
+  if (shown_) std::fprintf(stderr, "\n");
+  shown_ = false;
+}
+
+Checkpointer::Checkpointer(const std::string& out_dir, const Model& model, ResultsWriter& writer, LoopState& loop,
+                           double interval, double tolerance, double time)
+    : out_dir_(out_dir), model_(model), writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {
+  // Periodic checkpoints at multiples of the interval; they change what is on disk, not the run.
+  loop_.next_checkpoint = interval > 0 ? interval * (std::floor(time / interval) + 1) : kNever;
+}
+
+Verdict Checkpointer::after_step(Simulation& sim, const StepEvent&) {
+  if (sim.time >= loop_.next_checkpoint - tolerance_) {
+    while (loop_.next_checkpoint <= sim.time + tolerance_) loop_.next_checkpoint += interval_;
+    write(sim);
+  }
+  return Verdict::go_on();
+}
+
+void Checkpointer::write(const Simulation& sim) { write_checkpoint(out_dir_, model_, sim, loop_, writer_.sync()); }
+
+namespace {
+
+// The signal that asked the run to stop (0: none). Set by the handler, read after each step.
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal) { stop_signal = signal; }
+
+}  // namespace
+
+StopSignals::StopSignals() {
+  stop_signal = 0;
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // file writes in progress continue rather than fail with EINTR
+  sigaction(SIGINT, &action, &previous_interrupt_);
+  sigaction(SIGTERM, &action, &previous_terminate_);
+}
+
+StopSignals::~StopSignals() {
+  sigaction(SIGINT, &previous_interrupt_, nullptr);
+  sigaction(SIGTERM, &previous_terminate_, nullptr);
+}
+
+Verdict StopSignals::after_step(Simulation&, const StepEvent&) {
+  return stop_signal ? Verdict::stop("interrupted") : Verdict::go_on();
+}
+
+int StopSignals::signal() const { return stop_signal; }
+
+}  // namespace talus::solver

@@ -1,0 +1,123 @@
+// The observers of `talus solve` (time_loop.hpp): frames and the energy history into
+// results.h5, rest detection, the step limit, the progress line, periodic checkpoints, and
+// SIGINT/SIGTERM. Their state that a restart needs lives in one LoopState (checkpoint.hpp).
+#pragma once
+#include <chrono>
+#include <csignal>
+#include <string>
+
+#include "common/model.hpp"
+#include "solver/checkpoint.hpp"
+#include "solver/results.hpp"
+#include "solver/time_loop.hpp"
+
+namespace talus::solver {
+
+// Writes a frame at every multiple of the output interval, landing the step on it.
+class FrameWriter : public Observer {
+ public:
+  FrameWriter(ResultsWriter& writer, LoopState& loop, double interval, double tolerance)
+      : writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {}
+  double next_landing(const Simulation&) const override { return loop_.next_output; }
+  bool wants_energies(const Simulation& sim) const override { return due(sim); }
+  Verdict after_step(Simulation& sim, const StepEvent&) override;
+  // Writes a frame now (the last one of a run that stops between output times).
+  void write(const Simulation& sim);
+  bool written_at(const Simulation& sim) const { return last_step_ == sim.steps; }
+
+ private:
+  bool due(const Simulation& sim) const { return sim.time >= loop_.next_output - tolerance_; }
+  ResultsWriter& writer_;
+  LoopState& loop_;
+  double interval_, tolerance_;
+  long last_step_ = -1;
+};
+
+// A row of the energy history every `interval` steps, and whenever another observer has the
+// energies computed (at every frame).
+class HistoryRecorder : public Observer {
+ public:
+  HistoryRecorder(ResultsWriter& writer, int interval) : writer_(writer), interval_(interval) {}
+  bool wants_energies(const Simulation& sim) const override { return sim.steps % interval_ == 0; }
+  Verdict after_step(Simulation& sim, const StepEvent& event) override;
+
+ private:
+  ResultsWriter& writer_;
+  int interval_;
+};
+
+// Stops the run once the grid kinetic energy has stayed below rest_ratio x its peak for
+// rest_window seconds after the peak (judged whenever the energies are computed).
+class RestDetector : public Observer {
+ public:
+  RestDetector(LoopState& loop, double rest_ratio, double rest_window)
+      : loop_(loop), ratio_(rest_ratio), window_(rest_window) {}
+  Verdict after_step(Simulation& sim, const StepEvent& event) override;
+  bool at_rest(const Simulation& sim) const { return loop_.rest_since >= 0 && sim.time - loop_.rest_since >= window_; }
+
+ private:
+  LoopState& loop_;
+  double ratio_, window_;
+};
+
+// Stops the run after max_steps steps (0: never).
+class StepLimit : public Observer {
+ public:
+  explicit StepLimit(long max_steps) : max_steps_(max_steps) {}
+  Verdict after_step(Simulation& sim, const StepEvent&) override {
+    return max_steps_ > 0 && sim.steps >= max_steps_ ? Verdict::stop("step limit") : Verdict::go_on();
+  }
+
+ private:
+  long max_steps_;
+};
+
+// A progress line on stderr when it is a terminal, at most four times a second.
+class ProgressLine : public Observer {
+ public:
+  ProgressLine(bool enabled, double end_time);
+  ~ProgressLine() override { done(); }
+  Verdict after_step(Simulation& sim, const StepEvent& event) override;
+  void done();  // ends the line, once
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_;
+  double end_time_;
+  bool shown_ = false;
+  Clock::time_point start_ = Clock::now(), last_{};
+};
+
+// Writes OUT/checkpoint.h5 at multiples of `interval` simulated seconds (0: never).
+class Checkpointer : public Observer {
+ public:
+  Checkpointer(const std::string& out_dir, const Model& model, ResultsWriter& writer, LoopState& loop,
+               double interval, double tolerance, double time);
+  Verdict after_step(Simulation& sim, const StepEvent&) override;
+  void write(const Simulation& sim);  // now, whatever the schedule
+
+ private:
+  std::string out_dir_;
+  const Model& model_;
+  ResultsWriter& writer_;
+  LoopState& loop_;
+  double interval_, tolerance_;
+};
+
+// SIGINT and SIGTERM set a flag while it lives (the previous handlers come back after); the
+// run stops after the step in which the flag was seen.
+class StopSignals : public Observer {
+ public:
+  StopSignals();
+  ~StopSignals() override;
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  Verdict after_step(Simulation& sim, const StepEvent&) override;
+  int signal() const;  // the signal that stopped the run, 0 for none
+
+ private:
+  struct sigaction previous_interrupt_ {};
+  struct sigaction previous_terminate_ {};
+};
+
+}  // namespace talus::solver

@@ -1,0 +1,255 @@
+#include "solver/step.hpp"
+
+#include <omp.h>
+
+#include <atomic>
+#include <cmath>
+
+namespace talus::solver {
+
+bool step(Simulation& sim, double dt) {
+  const Config& c = sim.config;
+  Particles& P = sim.particles;
+  Scratch& s = sim.scratch;
+  const int threads = c.threads;
+  const ContactRules contact{c.pair_friction, c.body_fixed, c.constraints};
+
+  mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
+  particles_to_grid(P, s.stencil, gravity_at(c, sim.time), s.grids, s.buffers, threads);
+  update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
+  if (c.contact) {
+    // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
+    find_contact_nodes(s.grids, s.contact_nodes);
+    apply_contact(contact, dt, s.contact_nodes, s.grids, threads);
+  }
+  update_particle_velocities(P, s.stencil, dt, s.grids, s.buffers, threads);
+  remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, threads);
+  if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
+  update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
+  if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
+  s.bad_particle = update_stresses(P, s.d_eps, c.materials, c.material_of_body, threads);
+  s.lost_particle = relocate_particles(c.mesh, P, s.stencil, threads);
+  sim.time += dt;
+  ++sim.steps;
+  return s.lost_particle < 0 && s.bad_particle < 0;
+}
+
+void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int32_t>& node_stamp, int32_t& stamp,
+                       Grids& grids, int threads) {
+  ++stamp;
+  const long entries = static_cast<long>(particles) * S.width;
+  const int32_t current = stamp;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long k = 0; k < entries; ++k)
+    std::atomic_ref<int32_t>(node_stamp[S.node[k]]).store(current, std::memory_order_relaxed);
+  grids.active.clear();
+  for (int32_t i = 0; i < static_cast<int32_t>(node_stamp.size()); ++i)
+    if (node_stamp[i] == current) grids.active.push_back(i);
+}
+
+void particles_to_grid(const Particles& P, const Stencil& S, const Vec2& g, Grids& grids, ThreadBuffers& buffers,
+                       int threads) {
+  const long n = static_cast<long>(P.size());
+  const long moving = static_cast<long>(P.moving_count);
+  const bool gradients = grids.per_body;
+  const int W = S.width;
+#pragma omp parallel num_threads(threads)
+  {
+    auto& mine = buffers[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long p = 0; p < n; ++p) {
+      const std::size_t r = S.row(p);
+      NodeBuffer& b = mine[grids.field_of(P.body[p])];
+      const double m = P.m[p];
+      if (p >= moving) {  // a fixed body lends its mass (and, for contact, its normals) only
+        for (int k = 0; k < W; ++k) {
+          b.m[S.node[r + k]] += S.N[r + k] * m;
+          if (gradients) b.mass_gradient[S.node[r + k]] += m * S.dN[r + k];
+        }
+        continue;
+      }
+      const Vec2 mv = m * P.v[p];
+      const Vec4& s = P.sigma[p];
+      const double V = P.volume[p];
+      for (int k = 0; k < W; ++k) {
+        const double N = S.N[r + k];
+        const Vec2& dN = S.dN[r + k];
+        const int32_t i = S.node[r + k];
+        b.m[i] += N * m;                                       // (A.6), lumped
+        b.p[i] += N * mv;
+        b.f[i] += N * m * g                                    // (A.7)
+                  - V * Vec2(s[0] * dN.x() + s[3] * dN.y(), s[3] * dN.x() + s[1] * dN.y());  // (A.8)
+        if (gradients) b.mass_gradient[i] += m * dN;
+      }
+    }
+    // Reduce the per-thread buffers on the active nodes, in thread order, and clear them.
+    const long count = static_cast<long>(grids.active.size());
+    const std::size_t team = buffers.size();
+#pragma omp for schedule(static)
+    for (long k = 0; k < count; ++k) {
+      const int32_t i = grids.active[k];
+      for (std::size_t field = 0; field < grids.fields.size(); ++field) {
+        Grid& grid = grids.fields[field];
+        double m = 0;
+        Vec2 mom = Vec2::Zero(), force = Vec2::Zero(), gradient = Vec2::Zero();
+        for (std::size_t t = 0; t < team; ++t) {
+          NodeBuffer& b = buffers[t][field];
+          m += b.m[i];
+          mom += b.p[i];
+          force += b.f[i];
+          b.m[i] = 0;
+          b.p[i].setZero();
+          b.f[i].setZero();
+          if (gradients) {
+            gradient += b.mass_gradient[i];
+            b.mass_gradient[i].setZero();
+          }
+        }
+        grid.m[i] = m;
+        grid.p[i] = mom;
+        grid.f[i] = force;
+        if (gradients) grid.mass_gradient[i] = gradient;
+      }
+    }
+  }
+}
+
+void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, double damping,
+                               double dt, Grids& grids, int threads) {
+  const auto& active = grids.active;
+  const long count = static_cast<long>(active.size());
+  for (std::size_t field = 0; field < grids.fields.size(); ++field) {
+    Grid& grid = grids.fields[field];
+    const bool fixed_body = grids.per_body && body_fixed[field];
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long k = 0; k < count; ++k) {
+      const int32_t i = active[k];
+      if (grid.m[i] <= 0 || fixed_body) {
+        grid.a[i].setZero();
+        grid.p[i].setZero();
+        continue;
+      }
+      Vec2 f = grid.f[i];
+      if (damping > 0) {  // local damping against the sign of the nodal velocity (Cundall)
+        const Vec2& mom = grid.p[i];
+        for (int d = 0; d < 2; ++d) f[d] -= damping * std::abs(f[d]) * (mom[d] > 0 ? 1.0 : mom[d] < 0 ? -1.0 : 0.0);
+      }
+      // The constraint holds for the velocity at the end of the step: a constrained node's
+      // acceleration is whatever brings its velocity to the allowed one in dt. Zeroing the
+      // acceleration alone would leave the particles beside a fixed node with whatever velocity
+      // they carried in, moving nowhere but counted as kinetic energy.
+      const Vec2 v = grid.p[i] / grid.m[i];
+      Vec2 v_end = v + dt * f / grid.m[i];
+      constrain(constraints, i, v_end);
+      grid.a[i] = dt > 0 ? Vec2((v_end - v) / dt) : Vec2(f / grid.m[i]);
+      if (dt == 0) constrain(constraints, i, grid.a[i]);
+    }
+  }
+}
+
+void update_particle_velocities(Particles& P, const Stencil& S, double dt, const Grids& grids, ThreadBuffers& buffers,
+                                int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  const int W = S.width;
+#pragma omp parallel num_threads(threads)
+  {
+    auto& mine = buffers[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long p = 0; p < moving; ++p) {
+      const std::size_t r = S.row(p);
+      const int field = grids.field_of(P.body[p]);
+      const Grid& grid = grids.fields[field];
+      Vec2 a = Vec2::Zero();
+      for (int k = 0; k < W; ++k) a += S.N[r + k] * grid.a[S.node[r + k]];
+      P.v[p] += dt * a;  // (A.10)
+      // Momentum for the remap (A.11), scattered in the same pass.
+      NodeBuffer& b = mine[field];
+      const Vec2 mv = P.m[p] * P.v[p];
+      for (int k = 0; k < W; ++k) b.p[S.node[r + k]] += S.N[r + k] * mv;
+    }
+  }
+}
+
+void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
+                           ThreadBuffers& buffers, int threads) {
+  const auto& active = grids.active;
+  const long count = static_cast<long>(active.size());
+  const std::size_t team = buffers.size();
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long k = 0; k < count; ++k) {
+    const int32_t i = active[k];
+    for (std::size_t field = 0; field < grids.fields.size(); ++field) {
+      Grid& grid = grids.fields[field];
+      Vec2 mom = Vec2::Zero();
+      for (std::size_t t = 0; t < team; ++t) {
+        mom += buffers[t][field].p[i];
+        buffers[t][field].p[i].setZero();
+      }
+      const bool fixed_body = grids.per_body && body_fixed[field];
+      grid.v[i] = grid.m[i] > 0 && !fixed_body ? Vec2(mom / grid.m[i]) : Vec2::Zero();  // (A.11)
+      constrain(constraints, i, grid.v[i]);
+    }
+  }
+}
+
+void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& grids, double pic_fraction, double dt,
+                                std::vector<Vec4>& d_eps, int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  const int W = S.width;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long p = 0; p < moving; ++p) {
+    const std::size_t r = S.row(p);
+    const Grid& grid = grids.fields[grids.field_of(P.body[p])];
+    Vec2 v = Vec2::Zero();
+    Eigen::Matrix2d L = Eigen::Matrix2d::Zero();  // velocity gradient, L_ab = dv_a / dx_b
+    for (int k = 0; k < W; ++k) {
+      const Vec2& vi = grid.v[S.node[r + k]];
+      v += S.N[r + k] * vi;
+      L += vi * S.dN[r + k].transpose();
+    }
+    P.x[p] += dt * v;  // (A.12)
+    P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
+    d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
+    // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
+    const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
+    Vec4& s = P.sigma[p];
+    const double rotation_xx = 2 * w * s[3], rotation_xy = w * (s[1] - s[0]);
+    s[0] += rotation_xx;
+    s[1] -= rotation_xx;
+    s[3] += rotation_xy;
+  }
+}
+
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<MaterialState>& materials,
+                     const std::vector<int32_t>& material_of_body, int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  const std::size_t history = static_cast<std::size_t>(P.history_width);
+  long bad = -1;
+#pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
+  for (long p = 0; p < moving; ++p) {
+    const MaterialState& material = materials[material_of_body[P.body[p]]];
+    const Vec4& d = d_eps[p];
+    update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+    P.volume[p] *= 1 + d[0] + d[1] + d[2];
+    if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
+  }
+  return bad;
+}
+
+long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  long lost = -1;
+#pragma omp parallel for schedule(static) reduction(max : lost) num_threads(threads)
+  for (long p = 0; p < moving; ++p) {
+    const int32_t e = locate(mesh, P.element[p], P.x[p]);
+    if (e < 0) {
+      lost = std::max(lost, p);
+      continue;
+    }
+    P.element[p] = e;
+    compute_stencil_row(mesh, P.x[p], e, p, stencil);
+  }
+  return lost;
+}
+
+}  // namespace talus::solver

@@ -1,0 +1,123 @@
+// The solver's thread contract and determinism (solver/parallel.hpp). ctest runs this file
+// under OMP_NUM_THREADS=8 (tests/CMakeLists.txt); each test also sets OpenMP's count itself,
+// so that it means the same when run by hand. A simulation built for T threads runs T threads
+// whatever OpenMP's setting, and the same T gives bit-identical results run after run.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+
+#include "solver/step.hpp"
+#include "support/test_support.hpp"
+
+using namespace talus;
+using namespace talus::solver;
+using talus::testing::add_box_body;
+using talus::testing::elastic;
+using talus::testing::fix_base_roll_sides;
+using talus::testing::rectangle_mesh;
+using talus::testing::set_run;
+
+namespace {
+
+Material sand() {
+  Material m = elastic(1800, 1e7, 0.3);
+  m.name = "sand";
+  m.model = MaterialModel::MohrCoulomb;
+  m.friction_angle = 30;
+  m.cohesion = 1e3;
+  m.dilation_angle = 0;
+  return m;
+}
+
+// Every pass of the step at work: two bodies in frictional contact (a Mohr-Coulomb block
+// resting on an elastic one), EVS, damping, on a fixed base with roller sides.
+Model busy_model() {
+  Model model = rectangle_mesh(0, 0, 24, 16, 0.05);
+  add_box_body(model, "base", elastic(2000, 5e6, 0.3), 0.0, 1.2, 0.0, 0.3);
+  add_box_body(model, "block", sand(), 0.3, 0.8, 0.3, 0.6);
+  fix_base_roll_sides(model);
+  model.contact.enabled = true;
+  model.contact.friction = 0.4;
+  set_run(model, 1.0, Eigen::Vector2d(0, -9.81));
+  model.run.evs = true;
+  model.run.damping = 0.05;
+  return model;
+}
+
+void run_steps(Simulation& sim, int steps) {
+  for (int k = 0; k < steps; ++k) {
+    ASSERT_TRUE(step(sim, 0.5 * stable_time_step(sim, 0.5)));
+    if (sim.steps % 25 == 0) sort_particles(sim);
+  }
+}
+
+// Differing values between the two simulations' particle states (model order).
+long differing_values(const Simulation& a, const Simulation& b) {
+  const Particles& P = a.particles;
+  const Particles& Q = b.particles;
+  std::vector<long> where(P.size());
+  for (std::size_t q = 0; q < Q.size(); ++q) where[Q.id[q]] = static_cast<long>(q);
+  long differing = 0;
+  for (std::size_t p = 0; p < P.size(); ++p) {
+    const long q = where[P.id[p]];
+    differing += (P.x[p] != Q.x[q]) + (P.v[p] != Q.v[q]) + (P.sigma[p] != Q.sigma[q]) + (P.volume[p] != Q.volume[q]) +
+                 (P.eps_p[p] != Q.eps_p[q]);
+  }
+  return differing;
+}
+
+double largest_position_difference(const Simulation& a, const Simulation& b) {
+  std::vector<Vec2> x(a.particles.size());
+  for (std::size_t q = 0; q < b.particles.size(); ++q) x[b.particles.id[q]] = b.particles.x[q];
+  double worst = 0;
+  for (std::size_t p = 0; p < a.particles.size(); ++p)
+    worst = std::max(worst, (a.particles.x[p] - x[a.particles.id[p]]).norm());
+  return worst;
+}
+
+}  // namespace
+
+TEST(ThreadContract, BuiltForTwoThreadsRunsTwoUnderAnyOpenMPSetting) {
+  const Model model = busy_model();
+  omp_set_num_threads(2);
+  Simulation two = make_simulation(model, 2);
+  run_steps(two, 120);
+
+  omp_set_num_threads(8);  // what OMP_NUM_THREADS=8 sets; the buffers are for 2
+  Simulation under_eight = make_simulation(model, 2);
+  run_steps(under_eight, 120);
+  EXPECT_EQ(under_eight.config.threads, 2);
+  EXPECT_EQ(differing_values(two, under_eight), 0) << "a simulation built for 2 threads ran with another count";
+}
+
+TEST(ThreadContract, BuiltForEightThreadsRunsOnAnyMachine) {
+  const Model model = busy_model();
+  omp_set_num_threads(1);
+  Simulation one = make_simulation(model, 1);
+  run_steps(one, 120);
+  Simulation eight = make_simulation(model, 8);
+  run_steps(eight, 120);
+  EXPECT_EQ(eight.scratch.buffers.size(), 8u);
+  // Another thread count adds the same terms in another order: equal to round-off.
+  EXPECT_LT(largest_position_difference(one, eight), 1e-12);
+  EXPECT_GT(largest_position_difference(one, Simulation(make_simulation(model, 1))), 1e-4)
+      << "the block did not move: the comparison above would prove nothing";
+}
+
+TEST(Determinism, SameThreadCountGivesBitIdenticalRuns) {
+  const Model model = busy_model();
+  for (int threads : {2, 3}) {
+    SCOPED_TRACE(threads);
+    omp_set_num_threads(8);
+    Simulation first = make_simulation(model, threads), second = make_simulation(model, threads);
+    run_steps(first, 150);
+    run_steps(second, 150);
+    EXPECT_EQ(differing_values(first, second), 0);
+    const Energies a = energies(first), b = energies(second);
+    EXPECT_EQ(a.kinetic, b.kinetic);
+    EXPECT_EQ(a.grid_kinetic, b.grid_kinetic);
+    EXPECT_EQ(a.strain, b.strain);
+    EXPECT_GT(largest_position_difference(first, make_simulation(model, threads)), 1e-4);
+  }
+}
