@@ -105,7 +105,9 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::set_attribute(file, "settings/run", "gravity_ramp", run.gravity_ramp);
   h5::set_attribute(file, "settings/run", "damping", run.damping);
   h5::set_attribute(file, "settings/run", "evs", static_cast<int64_t>(run.evs));
+  h5::set_attribute(file, "settings/run", "transfer", std::string(transfer_name(run.transfer)));
   h5::set_attribute(file, "settings/run", "pic_fraction", run.pic_fraction);
+  h5::set_attribute(file, "settings/run", "xpic_order", static_cast<int64_t>(run.xpic_order));
   h5::set_attribute(file, "settings/run", "history_interval", static_cast<int64_t>(run.history_interval));
   h5::set_attribute(file, "settings/run", "rest_ratio", run.rest_ratio);
   h5::set_attribute(file, "settings/run", "rest_window", run.rest_window);
@@ -195,6 +197,19 @@ void read_metadata(const h5::File& file, Model& model) {
   run.damping = h5::get_double(file, "settings/run", "damping");
   run.evs = h5::get_int(file, "settings/run", "evs") != 0;
   run.pic_fraction = h5::get_double(file, "settings/run", "pic_fraction");
+  // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0.
+  if (h5::has_attribute(file, "settings/run", "transfer")) {
+    const std::string name = h5::get_string(file, "settings/run", "transfer");
+    const auto transfer = transfer_from_name(name);
+    if (!transfer)
+      throw Error(located(file.path(), "settings/run@transfer", "unknown transfer '" + name +
+                                                                     "' (expected flip, pic_blend, xpic or apic)"));
+    run.transfer = *transfer;
+  } else {
+    run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;
+  }
+  if (h5::has_attribute(file, "settings/run", "xpic_order"))
+    run.xpic_order = static_cast<int>(h5::get_int(file, "settings/run", "xpic_order"));
   run.history_interval = static_cast<int>(h5::get_int(file, "settings/run", "history_interval"));
   run.rest_ratio = h5::get_double(file, "settings/run", "rest_ratio");
   run.rest_window = h5::get_double(file, "settings/run", "rest_window");
@@ -204,7 +219,7 @@ void read_metadata(const h5::File& file, Model& model) {
       !std::isfinite(run.gravity.norm()) || run.history_interval < 1 || !std::isfinite(run.end_time) ||
       !std::isfinite(run.output_interval) || !std::isfinite(run.gravity_ramp) ||
       !(run.damping >= 0 && run.damping < 1) || !(run.rest_ratio >= 0 && run.rest_ratio < 1) ||
-      !(run.rest_window > 0) || run.max_steps < 0)
+      !(run.rest_window > 0) || run.max_steps < 0 || run.xpic_order < 1 || run.xpic_order > 100)
     throw Error(located(file.path(), "settings/run", "run settings out of range"));
 
   model.contact.enabled = h5::get_int(file, "settings/contact", "enabled") != 0;

@@ -268,6 +268,22 @@ int Scene::body_index(const std::string& name) const {
   return -1;
 }
 
+const char* transfer_name(Transfer transfer) {
+  switch (transfer) {
+    case Transfer::Flip: return "flip";
+    case Transfer::PicBlend: return "pic_blend";
+    case Transfer::Xpic: return "xpic";
+    case Transfer::Apic: return "apic";
+  }
+  return "";
+}
+
+std::optional<Transfer> transfer_from_name(const std::string& name) {
+  for (Transfer t : {Transfer::Flip, Transfer::PicBlend, Transfer::Xpic, Transfer::Apic})
+    if (name == transfer_name(t)) return t;
+  return std::nullopt;
+}
+
 double pair_friction(const ContactSettings& contact, const std::string& a, const std::string& b) {
   for (const auto& pair : contact.pairs)
     if ((pair.body_a == a && pair.body_b == b) || (pair.body_a == b && pair.body_b == a)) return pair.friction;
@@ -303,6 +319,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   TableReader mesh(top.table("mesh"), "mesh", path, overridden);
   if (mesh.has("size")) scene.mesh.size = mesh.number("size", std::nullopt, 0, kInf, false);
   scene.mesh.domain = mesh.text("domain", scene.mesh.domain);
+  if (const toml::table* parameters = mesh.table("parameters")) {
+    for (const auto& [key, node] : *parameters) {
+      const std::string name(key.str());
+      check_name(name, "mesh.parameters." + name, path);
+      TableReader r(parameters, "mesh.parameters", path, overridden);
+      scene.mesh.parameters[name] = r.number(name, std::nullopt, -kInf, kInf);
+    }
+  }
   mesh.finish();
 
   TableReader run(top.table("run"), "run", path, overridden);
@@ -314,7 +338,16 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
   rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
   rs.evs = run.boolean("evs", rs.evs);
-  rs.pic_fraction = run.number("pic_fraction", rs.pic_fraction, 0, 1);
+  const std::string transfer = run.text("transfer", transfer_name(rs.transfer));
+  if (!transfer_from_name(transfer))
+    run.fail("transfer", "unknown transfer '" + transfer + "' (expected flip, pic_blend, xpic or apic)");
+  rs.transfer = *transfer_from_name(transfer);
+  if (rs.transfer != Transfer::PicBlend && run.has("pic_fraction"))
+    run.fail("pic_fraction", "applies to transfer = \"pic_blend\" only (the transfer is \"" + transfer + "\")");
+  if (rs.transfer == Transfer::PicBlend) rs.pic_fraction = run.number("pic_fraction", 0.05, 0, 1);
+  if (rs.transfer != Transfer::Xpic && run.has("xpic_order"))
+    run.fail("xpic_order", "applies to transfer = \"xpic\" only (the transfer is \"" + transfer + "\")");
+  if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
   rs.history_interval = static_cast<int>(run.integer("history_interval", rs.history_interval, 1, 1000000));
   rs.rest_ratio = run.number("rest_ratio", rs.rest_ratio, 0, 1, true, false);
   rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);

@@ -116,7 +116,8 @@ std::string GeoMesh::group_names() const {
   return names;
 }
 
-GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by) {
+GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by,
+                      const std::map<std::string, double>& parameters) {
   namespace fs = std::filesystem;
   // gmsh::open of a missing file logs a warning and yields an empty model: check first.
   std::error_code error;
@@ -126,7 +127,17 @@ GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& 
   GmshSession session;
   // Defaults that the .geo may change (it is read after these are set).
   gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay
+  for (const auto& [name, value] : parameters) gmsh::onelab::setNumber("Parameters/" + name, {value});
   with_gmsh_errors(geo_path, "read the geometry", [&] { gmsh::open(geo_path); });
+  for (const auto& [name, value] : parameters) {
+    // A parameter that a DefineConstant of the .geo read lists gmsh among its clients.
+    std::string entry;
+    gmsh::onelab::get(entry, "Parameters/" + name);
+    if (entry.find("\"clients\"") == std::string::npos)
+      throw Error(located(geo_path, "", "mesh.parameters." + name + ": the geometry declares no such parameter " +
+                                            "(expected DefineConstant[ " + name + " = {VALUE, Name \"Parameters/" +
+                                            name + "\"} ])"));
+  }
   // What the solver requires, whatever the .geo says: linear triangles only.
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
   gmsh::option::setNumber("Mesh.RecombineAll", 0);

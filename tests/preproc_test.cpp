@@ -594,6 +594,16 @@ TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
       {"zero mesh size by --set", [](BlockScene&) {}, "--set mesh.size=0", {"block.toml", "mesh.size"}},
       {"--set of a key that does not exist", [](BlockScene&) {}, "--set run.end_tme=2",
        {"block.toml", "run.end_tme", "end_time"}},
+      {"unknown transfer", [](BlockScene&) {}, "--set run.transfer=flop",
+       {"block.toml", "run.transfer", "flop", "xpic"}},
+      {"pic_fraction without the PIC blend", [](BlockScene&) {}, "--set run.transfer=xpic --set run.pic_fraction=0.1",
+       {"block.toml", "run.pic_fraction", "pic_blend"}},
+      {"xpic_order without XPIC", [](BlockScene&) {}, "--set run.transfer=apic --set run.xpic_order=3",
+       {"block.toml", "run.xpic_order", "xpic"}},
+      {"XPIC of order 0", [](BlockScene&) {}, "--set run.transfer=xpic --set run.xpic_order=0",
+       {"block.toml", "run.xpic_order", "[1, 100]"}},
+      {"a .geo parameter the .geo does not declare", [](BlockScene&) {}, "--set mesh.parameters.width=2",
+       {"block.geo", "mesh.parameters.width", "DefineConstant"}},
   };
   // The unchanged scene is valid, so each rejection below comes from its one change.
   const Rejection valid = run_mesh(BlockScene{});
