@@ -29,7 +29,9 @@ struct Config {
   Vec2 gravity{0, -9.81};    // full gravity (m/s^2)
   double gravity_ramp = 0;   // s; see RunSettings::gravity_ramp
   double damping = 0;        // local (Cundall) damping coefficient
-  double pic_fraction = 0;   // share of the grid velocity in the particle velocity (0: FLIP)
+  Transfer transfer = Transfer::Flip;  // grid to particle velocity update (docs/transfer.md)
+  double pic_fraction = 0;   // PicBlend only: share of the grid velocity in the particle velocity
+  int xpic_order = 1;        // Xpic only: m
   bool evs = false;          // enhanced volumetric strain
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)

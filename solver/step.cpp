@@ -15,14 +15,23 @@ bool step(Simulation& sim, double dt) {
   const ContactRules contact{c.pair_friction, c.body_fixed, c.constraints};
 
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(P, s.stencil, gravity_at(c, sim.time), s.grids, s.buffers, threads);
+  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.grids, s.buffers, threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
     find_contact_nodes(s.grids, s.contact_nodes);
     apply_contact(contact, dt, s.contact_nodes, s.grids, threads);
   }
-  update_particle_velocities(P, s.stencil, dt, s.grids, s.buffers, threads);
+  if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
+    // The particles take a grid velocity rather than its increment: PIC's v_i + dt a_i, which
+    // XPIC(m) then extends with the part of the particle velocities the grid can represent.
+    lagrangian_grid_velocities(dt, s.grids, threads);
+    if (c.xpic_order > 1) {
+      add_xpic_terms(P, s.stencil, c.constraints, c.xpic_order, s.grids, s.buffers, threads);
+      if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
+    }
+  }
+  update_particle_velocities(P, s.stencil, c.mesh.nodes, c.transfer, dt, s.grids, s.buffers, threads);
   remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, threads);
   if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
@@ -47,11 +56,12 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
     if (node_stamp[i] == current) grids.active.push_back(i);
 }
 
-void particles_to_grid(const Particles& P, const Stencil& S, const Vec2& g, Grids& grids, ThreadBuffers& buffers,
-                       int threads) {
+void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
+                       Grids& grids, ThreadBuffers& buffers, int threads) {
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
   const bool gradients = grids.per_body;
+  const bool affine = !P.C.empty();  // APIC
   const int W = S.width;
 #pragma omp parallel num_threads(threads)
   {
@@ -77,6 +87,11 @@ void particles_to_grid(const Particles& P, const Stencil& S, const Vec2& g, Grid
         const int32_t i = S.node[r + k];
         b.m[i] += N * m;                                       // (A.6), lumped
         b.p[i] += N * mv;
+        if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
+          const Vec4& C = P.C[p];
+          const Vec2 d = x_i[i] - P.x[p];
+          b.p[i] += N * m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y());
+        }
         b.f[i] += N * m * g                                    // (A.7)
                   - V * Vec2(s[0] * dN.x() + s[3] * dN.y(), s[3] * dN.x() + s[1] * dN.y());  // (A.8)
         if (gradients) b.mass_gradient[i] += m * dN;
@@ -147,8 +162,17 @@ void update_grid_accelerations(const Constraints& constraints, const std::vector
   }
 }
 
-void update_particle_velocities(Particles& P, const Stencil& S, double dt, const Grids& grids, ThreadBuffers& buffers,
-                                int threads) {
+namespace {
+
+// The velocity update of one transfer scheme, and the momentum for the remap (A.11) scattered
+// in the same pass. Flip and PicBlend add the grid acceleration (A.10); Xpic and Apic take the
+// velocity left in grid.v; Apic carries its affine matrix C_p into the remap's momentum,
+// m_p (v_p + C_p (x_i - x_p)).
+template <Transfer kTransfer>
+void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, double dt, const Grids& grids,
+                         ThreadBuffers& buffers, int threads) {
+  constexpr bool kIncrement = kTransfer == Transfer::Flip || kTransfer == Transfer::PicBlend;
+  constexpr bool kAffine = kTransfer == Transfer::Apic;
   const long moving = static_cast<long>(P.moving_count);
   const int W = S.width;
 #pragma omp parallel num_threads(threads)
@@ -159,14 +183,41 @@ void update_particle_velocities(Particles& P, const Stencil& S, double dt, const
       const std::size_t r = S.row(p);
       const int field = grids.field_of(P.body[p]);
       const Grid& grid = grids.fields[field];
-      Vec2 a = Vec2::Zero();
-      for (int k = 0; k < W; ++k) a += S.N[r + k] * grid.a[S.node[r + k]];
-      P.v[p] += dt * a;  // (A.10)
-      // Momentum for the remap (A.11), scattered in the same pass.
+      if constexpr (kIncrement) {
+        Vec2 a = Vec2::Zero();
+        for (int k = 0; k < W; ++k) a += S.N[r + k] * grid.a[S.node[r + k]];
+        P.v[p] += dt * a;  // (A.10)
+      } else {
+        Vec2 v = Vec2::Zero();
+        for (int k = 0; k < W; ++k) v += S.N[r + k] * grid.v[S.node[r + k]];
+        P.v[p] = v;
+      }
       NodeBuffer& b = mine[field];
-      const Vec2 mv = P.m[p] * P.v[p];
-      for (int k = 0; k < W; ++k) b.p[S.node[r + k]] += S.N[r + k] * mv;
+      const double m = P.m[p];
+      const Vec2 mv = m * P.v[p];
+      for (int k = 0; k < W; ++k) {
+        const int32_t i = S.node[r + k];
+        if constexpr (kAffine) {
+          const Vec4& C = P.C[p];
+          const Vec2 d = x_i[i] - P.x[p];
+          b.p[i] += S.N[r + k] * (mv + m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y()));
+        } else {
+          b.p[i] += S.N[r + k] * mv;
+        }
+      }
     }
+  }
+}
+
+}  // namespace
+
+void update_particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, Transfer transfer,
+                                double dt, const Grids& grids, ThreadBuffers& buffers, int threads) {
+  switch (transfer) {
+    case Transfer::Flip: return particle_velocities<Transfer::Flip>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::PicBlend: return particle_velocities<Transfer::PicBlend>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::Xpic: return particle_velocities<Transfer::Xpic>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::Apic: return particle_velocities<Transfer::Apic>(P, S, x_i, dt, grids, buffers, threads);
   }
 }
 
@@ -196,6 +247,7 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
                                 std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const int W = S.width;
+  const bool affine = !P.C.empty();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
     const std::size_t r = S.row(p);
@@ -209,6 +261,7 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
     }
     P.x[p] += dt * v;  // (A.12)
     P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
+    if (affine) P.C[p] = Vec4(L(0, 0), L(0, 1), L(1, 0), L(1, 1));  // APIC: for the next P2G and remap
     d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
     // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
     const double w = 0.5 * dt * (L(0, 1) - L(1, 0));

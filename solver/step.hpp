@@ -20,24 +20,39 @@ void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vecto
 
 // (A.6)-(A.8): mass, momentum and force of each velocity field at the active nodes; with
 // contact also the mass gradients. Particles of fixed bodies lend their mass (and normals) only.
-void particles_to_grid(const Particles& P, const Stencil& stencil, const Vec2& gravity, Grids& grids,
-                       ThreadBuffers& buffers, int threads);
+// With APIC the momentum carries each particle's affine part, m_p C_p (x_i - x_p), for which
+// it needs the node positions x_i.
+void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& gravity,
+                       Grids& grids, ThreadBuffers& buffers, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
 // satisfies the constraints. A fixed body's field does not move.
 void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& body_fixed,
                                double damping, double dt, Grids& grids, int threads);
 
-// (A.10): v_p += dt sum N_ip a_i, and the momentum for the remap scattered in the same pass.
-void update_particle_velocities(Particles& P, const Stencil& stencil, double dt, const Grids& grids,
-                                ThreadBuffers& buffers, int threads);
+// XPIC and APIC only (transfer.cpp): grid.v = v_i + dt a_i, PIC's velocity (with the
+// lumped-mass v_i = p_i / m_i of P2G), constrained as the accelerations are.
+void lagrangian_grid_velocities(double dt, Grids& grids, int threads);
+
+// XPIC(m), m > 1 (transfer.cpp; Hammerquist and Nairn 2017): adds sum_{k=1}^{m-1} (I - S+S)^k v_i
+// to grid.v, with S+S v_i = sum_p m_p N_ip (sum_j N_jp v_j) / m_i, and constrains the result.
+void add_xpic_terms(const Particles& P, const Stencil& stencil, const Constraints& constraints, int order,
+                    Grids& grids, ThreadBuffers& buffers, int threads);
+
+// The particle velocities from the grid (docs/transfer.md), and the momentum for the remap
+// scattered in the same pass. Flip and PicBlend: (A.10), v_p += dt sum N_ip a_i. Xpic and Apic:
+// v_p = sum N_ip v_i with the velocities the two phases above left in grid.v; Apic scatters
+// m_p (v_p + C_p (x_i - x_p)).
+void update_particle_velocities(Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, Transfer transfer,
+                                double dt, const Grids& grids, ThreadBuffers& buffers, int threads);
 
 // (A.11): v_i = sum N_ip m_p v_p / m_i, constrained.
 void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
                            ThreadBuffers& buffers, int threads);
 
 // (A.12): x_p += dt sum N_ip v_i; the strain increment d_eps and the Jaumann rotation of the
-// stress from the velocity gradient; the PIC blend of the particle velocity.
+// stress from the velocity gradient; the PIC blend of the particle velocity; APIC's affine
+// matrix C_p = sum v_i (grad N_ip)^T, the gradient of the remapped velocities.
 void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grids& grids, double pic_fraction,
                                 double dt, std::vector<Vec4>& d_eps, int threads);
 
