@@ -75,6 +75,7 @@ Simulation make_simulation(const Model& model, int threads) {
   config.pic_fraction = config.transfer == Transfer::PicBlend ? model.run.pic_fraction : 0.0;
   config.xpic_order = config.transfer == Transfer::Xpic ? model.run.xpic_order : 1;
   config.evs = model.run.evs;
+  config.initial_volume = model.volume;
   for (const auto& material : model.materials) config.materials.push_back(make_material(material));
   for (const auto& body : model.bodies) {
     config.material_of_body.push_back(body.material);
@@ -109,6 +110,8 @@ Simulation make_simulation(const Model& model, int threads) {
   for (auto& grid : scratch.grids.fields) resize_grid(grid, nodes, config.contact, xpic);
   scratch.node_stamp.assign(nodes, 0);
   scratch.d_eps.assign(sim.particles.size(), Vec4::Zero());
+  scratch.element_count.assign(config.mesh.element_count(), 0);
+  scratch.isolated.assign(sim.particles.size(), 0);
   if (config.evs) {
     const std::size_t elements = config.mesh.element_count();
     scratch.evs.strain.assign(elements, 0);

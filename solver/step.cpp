@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -36,7 +37,9 @@ bool step(Simulation& sim, double dt) {
   if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
-  s.bad_particle = update_stresses(P, s.d_eps, c.materials, c.material_of_body, threads);
+  find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);
+  s.bad_particle = update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
+                                  threads);
   s.lost_particle = relocate_particles(c.mesh, P, s.stencil, threads);
   sim.time += dt;
   ++sim.steps;
@@ -166,7 +169,8 @@ namespace {
 
 // The velocity update of one transfer scheme, and the momentum for the remap (A.11) scattered
 // in the same pass. Flip and PicBlend add the grid acceleration (A.10); Xpic and Apic take the
-// velocity left in grid.v; Apic carries its affine matrix C_p into the remap's momentum,
+// velocity left in grid.v; Apic also takes its gradient as the affine matrix C_p (Jiang et al.
+// 2015, with grad N for linear elements) and carries it into the remap's momentum,
 // m_p (v_p + C_p (x_i - x_p)).
 template <Transfer kTransfer>
 void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, double dt, const Grids& grids,
@@ -189,8 +193,14 @@ void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>
         P.v[p] += dt * a;  // (A.10)
       } else {
         Vec2 v = Vec2::Zero();
-        for (int k = 0; k < W; ++k) v += S.N[r + k] * grid.v[S.node[r + k]];
+        Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+        for (int k = 0; k < W; ++k) {
+          const Vec2& vi = grid.v[S.node[r + k]];
+          v += S.N[r + k] * vi;
+          if constexpr (kAffine) C += vi * S.dN[r + k].transpose();
+        }
         P.v[p] = v;
+        if constexpr (kAffine) P.C[p] = Vec4(C(0, 0), C(0, 1), C(1, 0), C(1, 1));
       }
       NodeBuffer& b = mine[field];
       const double m = P.m[p];
@@ -247,7 +257,6 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
                                 std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const int W = S.width;
-  const bool affine = !P.C.empty();
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
     const std::size_t r = S.row(p);
@@ -261,7 +270,7 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
     }
     P.x[p] += dt * v;  // (A.12)
     P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
-    if (affine) P.C[p] = Vec4(L(0, 0), L(0, 1), L(1, 0), L(1, 1));  // APIC: for the next P2G and remap
+
     d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
     // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
     const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
@@ -273,17 +282,22 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
   }
 }
 
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<MaterialState>& materials,
-                     const std::vector<int32_t>& material_of_body, int threads) {
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
+                     const std::vector<double>& initial_volume, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history = static_cast<std::size_t>(P.history_width);
   long bad = -1;
 #pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
-    const MaterialState& material = materials[material_of_body[P.body[p]]];
-    const Vec4& d = d_eps[p];
-    update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
-    P.volume[p] *= 1 + d[0] + d[1] + d[2];
+    if (isolated[p]) {
+      P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
+    } else {
+      const MaterialState& material = materials[material_of_body[P.body[p]]];
+      const Vec4& d = d_eps[p];
+      update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+      P.volume[p] = std::min(P.volume[p] * (1 + d[0] + d[1] + d[2]), kMaxVolumeGrowth * initial_volume[P.id[p]]);
+    }
     if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
   }
   return bad;

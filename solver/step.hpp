@@ -41,8 +41,8 @@ void add_xpic_terms(const Particles& P, const Stencil& stencil, const Constraint
 
 // The particle velocities from the grid (docs/transfer.md), and the momentum for the remap
 // scattered in the same pass. Flip and PicBlend: (A.10), v_p += dt sum N_ip a_i. Xpic and Apic:
-// v_p = sum N_ip v_i with the velocities the two phases above left in grid.v; Apic scatters
-// m_p (v_p + C_p (x_i - x_p)).
+// v_p = sum N_ip v_i with the velocities the two phases above left in grid.v; Apic also sets
+// C_p = sum v_i (grad N_ip)^T from them and scatters m_p (v_p + C_p (x_i - x_p)).
 void update_particle_velocities(Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, Transfer transfer,
                                 double dt, const Grids& grids, ThreadBuffers& buffers, int threads);
 
@@ -51,8 +51,7 @@ void remap_grid_velocities(const Constraints& constraints, const std::vector<uin
                            ThreadBuffers& buffers, int threads);
 
 // (A.12): x_p += dt sum N_ip v_i; the strain increment d_eps and the Jaumann rotation of the
-// stress from the velocity gradient; the PIC blend of the particle velocity; APIC's affine
-// matrix C_p = sum v_i (grad N_ip)^T, the gradient of the remapped velocities.
+// stress from the velocity gradient; the PIC blend of the particle velocity.
 void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grids& grids, double pic_fraction,
                                 double dt, std::vector<Vec4>& d_eps, int threads);
 
@@ -62,10 +61,24 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
                                const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
                                int threads);
 
-// The materials' stress update and the volume update V_p *= 1 + tr d_eps. Returns the first
-// particle whose state became non-finite or inverted, or -1.
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<MaterialState>& materials,
-                     const std::vector<int32_t>& material_of_body, int threads);
+// Flags the moving particles alone in their element that fill less than half of it
+// (isolated.cpp): grains in free flight, which carry no stress.
+void find_isolated_particles(const Mesh& mesh, const Particles& P, std::vector<int32_t>& element_count,
+                             std::vector<uint8_t>& isolated, int threads);
+
+// A particle's volume grows to at most this many times its initial volume. Elastic strains and
+// a sand's dilation stay well below; beyond it a material pulled apart (a frictional one at the
+// apex of its cone, without stress) opens gaps between its particles instead of inflating them.
+// Uncapped, a grain that left the column collapse grew to 10-100 times its volume, and the next
+// compression, acting through V_p sigma_p, threw it out of the mesh (docs/transfer.md).
+inline constexpr double kMaxVolumeGrowth = 1.2;
+
+// The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
+// kMaxVolumeGrowth V_p(0); an isolated particle instead drops its stress and keeps its volume.
+// Returns the first particle whose state became non-finite or inverted, or -1.
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
+                     const std::vector<double>& initial_volume, int threads);
 
 // Finds each moving particle's element (neighbour walk) and recomputes its stencil row.
 // Returns the first particle that left the domain, or -1.

@@ -1,6 +1,6 @@
 // The velocity transfers (docs/transfer.md) on meshes made in code: XPIC(m) against its
 // particle-space definition with explicit matrices, momentum kept by every transfer, APIC
-// carrying an affine velocity field exactly.
+// carrying an affine velocity field exactly, and the isolated-particle rule.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -160,6 +160,55 @@ TEST(Apic, CarriesAnAffineVelocityFieldExactly) {
   EXPECT_LT(apic_v, 1e-12);
   EXPECT_LT(apic_C, 1e-11);
   EXPECT_GT(pic_v, 1e-3);
+}
+
+// A particle alone in its element, well away from the block it shares nodes with, carries no
+// stress and keeps its volume; the block's particles keep theirs.
+TEST(IsolatedParticles, CarryNoStressAndKeepTheirVolume) {
+  Model model = rectangle_mesh(0, 0, 8, 8, 0.125);
+  add_box_body(model, "block", elastic(1500, 1e6, 0.3), 0.25, 0.5, 0.25, 0.5);
+  // One particle at the centroid of a triangle next to the block's right edge.
+  const Eigen::Vector2d lone(0.5 + 0.125 * 2 / 3, 0.25 + 0.125 / 3);
+  model.position.push_back(lone);
+  model.velocity.emplace_back(1.0, -1.0);
+  model.volume.push_back(model.volume.back());
+  model.mass.push_back(model.mass.back());
+  model.stress.emplace_back(-2e4, -1e4, -1e4, 500);
+  model.body.push_back(0);
+  model.element.push_back(0);  // located by make_simulation
+  for (auto& s : model.stress) s.x() = s.x() == -2e4 ? s.x() : -1e3;
+  set_run(model, 1.0);
+  Simulation sim = make_simulation(model, 1);
+  ASSERT_TRUE(step(sim, 1e-5));
+  const Particles& P = sim.particles;
+  int isolated = 0;
+  for (std::size_t p = 0; p < P.moving_count; ++p) {
+    if (P.id[p] == static_cast<int32_t>(model.particle_count() - 1)) {
+      EXPECT_TRUE(sim.scratch.isolated[p]);
+      EXPECT_EQ(P.sigma[p], Vec4::Zero());
+      EXPECT_EQ(P.volume[p], model.volume.back());
+    } else {
+      EXPECT_NE(P.sigma[p], Vec4::Zero());
+    }
+    isolated += sim.scratch.isolated[p];
+  }
+  EXPECT_EQ(isolated, 1);
+}
+
+// A block pulled apart (v = 5 x, no gravity, a soft material that hardly resists): its
+// particles grow to kMaxVolumeGrowth times their initial volume and no further.
+TEST(VolumeGrowth, StopsAtItsCap) {
+  Model model = rectangle_mesh(0, 0, 16, 16, 0.125);
+  add_box_body(model, "block", elastic(1500, 1e2, 0.3), 0.75, 1.25, 0.75, 1.25);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) model.velocity[p] = 5.0 * (model.position[p] - Eigen::Vector2d(1, 1));
+  set_run(model, 1.0);
+  Simulation sim = make_simulation(model, 1);
+  const double dt = 1e-3;
+  for (int k = 0; k < 100; ++k) ASSERT_TRUE(step(sim, dt));  // uncapped: (1 + 10 dt)^100, 2.7 times
+  double largest = 0;
+  for (std::size_t p = 0; p < sim.particles.moving_count; ++p)
+    largest = std::max(largest, sim.particles.volume[p] / model.volume[sim.particles.id[p]]);
+  EXPECT_NEAR(largest, kMaxVolumeGrowth, 1e-12);
 }
 
 // The transfer is a run setting of model.h5 (docs/model-format.md) and of the checkpoint's
