@@ -205,6 +205,20 @@ TEST(PreprocScenes, SlopeFillsTheSoilExactlyWithRollerSidesAndFixedBase) {
   EXPECT_TRUE(m.model.node_sets.count("top"));  // every named curve is a node set
 }
 
+// [mesh.parameters] reach the .geo's DefineConstant: the column is a L0 x a L0 rectangle.
+TEST(PreprocScenes, ColumnCollapseTakesItsSizeFromMeshParameters) {
+  const Meshed m = mesh_scene("column_collapse", {"mesh.parameters.a=2", "mesh.parameters.L0=0.05"});
+  double x = 0, y = 0, volume = 0;
+  for (std::size_t p = 0; p < m.model.particle_count(); ++p) {
+    x = std::max(x, m.model.position[p].x());
+    y = std::max(y, m.model.position[p].y());
+    volume += m.model.volume[p];
+  }
+  EXPECT_NEAR(volume, 2 * 0.05 * 0.05, 1e-12);
+  EXPECT_NEAR(x, 0.05, 0.005);
+  EXPECT_NEAR(y, 0.1, 0.005);
+}
+
 TEST(PreprocScenes, MeshSizeOverridesTheGeo) {
   const Meshed coarse = mesh_scene("slope", {"mesh.size=0.5"});
   const Meshed fine = mesh_scene("slope", {"mesh.size=0.25"});
