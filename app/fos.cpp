@@ -6,14 +6,11 @@
 
 #include <omp.h>
 
-#include <array>
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "common/error.hpp"
 #include "common/model.hpp"
@@ -21,6 +18,7 @@
 #include "postproc/bishop.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
+#include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"
 #include "postproc/postproc.hpp"
 #include "postproc/runout.hpp"
@@ -39,12 +37,6 @@ using Vec2 = Eigen::Vector2d;
 double tolerance_of(const cli::Arguments& args) {
   if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
   return args.tolerance.value_or(0.01);
-}
-
-std::string quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
 }
 
 // The slope as the postproc sees it: the analysed body, its profile in the canonical frame.
@@ -218,23 +210,6 @@ std::string fos_json(const Report& r) {
   return json.text();
 }
 
-// Runs postproc/fos_figure.py; its lines go to `log`. Returns false when it failed.
-bool draw_figure(const std::string& out_dir, std::ostream& log) {
-  const std::string figures = postproc::figures_script();
-  const std::string script = figures.empty() ? "" : (fs::path(figures).parent_path() / "fos_figure.py").string();
-  if (script.empty() || !fs::exists(script)) {
-    log << "figure skipped: fos_figure.py not found\n";
-    return false;
-  }
-  const std::string command = "/usr/bin/python3 " + quoted(script) + " --out " + quoted(out_dir) + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return false;
-  std::array<char, 4096> line;
-  while (std::fgets(line.data(), line.size(), pipe)) log << "  " << line.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
 }  // namespace
 
 int run_fos(const cli::Arguments& args) {
@@ -316,7 +291,7 @@ int run_fos(const cli::Arguments& args) {
       << " s\n" << std::defaultfloat;
   log << "wrote " << (out / "fos.json").string() << std::endl;
   if (!slip) return 0;
-  return draw_figure(out.string(), log) ? 0 : 1;
+  return postproc::run_figure_script(postproc::figure_script("fos_figure.py"), {"--out", out.string()}, log) ? 0 : 1;
 }
 
 }  // namespace talus

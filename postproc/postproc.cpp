@@ -2,20 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "common/error.hpp"
 #include "common/scene.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
+#include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"
 #include "postproc/results.hpp"
 #include "postproc/runout.hpp"
@@ -276,12 +274,6 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
   return json.text();
 }
 
-std::string shell_quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 std::string format(std::optional<double> value, int precision, const std::string& unit) {
   if (!value) return "n/a";
   std::ostringstream out;
@@ -325,14 +317,6 @@ void print_summary(const Metrics& m, std::ostream& log) {
 
 }  // namespace
 
-std::string figures_script() {
-#ifdef TALUS_SOURCE_DIR
-  return std::string(TALUS_SOURCE_DIR) + "/postproc/figures.py";
-#else
-  return {};
-#endif
-}
-
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options) {
   const Results results = read_results(results_path);
@@ -371,27 +355,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
 
   if (!options.figures) return 0;
   const std::string script = options.figures_script.empty() ? figures_script() : options.figures_script;
-  if (script.empty() || !fs::exists(script)) {
-    log << "  figures skipped: figures.py not found" << (script.empty() ? "" : " at " + script) << "\n";
-    return 1;
-  }
-  const std::string command = shell_quoted(options.python) + " " + shell_quoted(script) + " --results " +
-                              shell_quoted(results_path) + " --out " + shell_quoted(out_dir);
-  // The script's own lines (what it wrote, or its traceback) go to the same log.
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) {
-    log << "  figures failed: cannot start `" << command << "`\n";
-    return 1;
-  }
-  std::array<char, 4096> line;
-  while (std::fgets(line.data(), line.size(), pipe)) log << "  " << line.data();
-  const int status = pclose(pipe);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    log << "  figures failed: `" << command << "` exited with status "
-        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << "\n";
-    return 1;
-  }
-  return 0;
+  return run_figure_script(script, {"--results", results_path, "--out", out_dir}, log, options.python) ? 0 : 1;
 }
 
 }  // namespace talus::postproc
