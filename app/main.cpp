@@ -8,7 +8,6 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/fos.hpp"
 #include "app/stamps.hpp"
 #include "common/error.hpp"
 #include "common/model.hpp"
@@ -16,6 +15,7 @@
 #include "preproc/preproc.hpp"
 #include "postproc/postproc.hpp"
 #include "solver/solver.hpp"
+#include "workflow/fos.hpp"
 
 namespace fs = std::filesystem;
 using namespace talus;
@@ -142,6 +142,19 @@ int run_pipeline(const Scene& scene, const std::string& folder, const cli::Argum
   return 0;
 }
 
+workflow::FosOptions fos_options(const cli::Arguments& args) {
+  if (args.positional.size() != 1) throw Error("fos: expected one scene file (see talus --help)");
+  if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
+  workflow::FosOptions options;
+  options.scene_path = args.positional.front();
+  options.overrides = args.overrides;
+  options.out = args.out;
+  options.threads = args.threads;
+  options.tolerance = args.tolerance;
+  options.quiet = args.quiet;
+  return options;
+}
+
 // The options a stage does not know are mistakes, not silently ignored.
 void reject_unknown_options(const cli::Arguments& args, bool solves) {
   if (!args.flags.empty())
@@ -186,7 +199,7 @@ int run_command(const cli::Arguments& args) {
     stamps::forget(folder);
     return post_stage(results_path, folder, args.quiet);
   }
-  if (args.command == "fos") return run_fos(args);
+  if (args.command == "fos") return workflow::run_fos(fos_options(args), std::cout);
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     const Scene scene = load_scene(scene_path, args.overrides);
