@@ -18,6 +18,7 @@
 #include "preproc/preproc.hpp"
 #include "solver/strength_reduction.hpp"
 #include "workflow/fos_report.hpp"
+#include "workflow/pipeline.hpp"
 
 namespace fs = std::filesystem;
 
@@ -93,8 +94,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   const double tolerance = options.tolerance.value_or(solver::SearchSettings{}.tolerance);
 
   const Scene scene = load_scene(options.scene_path, options.overrides);
-  const fs::path out = options.out ? fs::path(*options.out) : fs::path("out") / scene.name;
-  fs::create_directories(out);
+  const fs::path out = output_folder(options.out, scene);
   const Model model = preproc::build_model(scene);
   const postproc::Source source{scene.path, true, "fos needs"};
   const postproc::AnalysedBody body = postproc::analysed_body(model, model.body, source);
