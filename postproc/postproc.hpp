@@ -13,10 +13,12 @@
 //
 // Definitions and rules: docs/postproc.md. The library's parts, for use on their own:
 // slope_geometry.hpp, runout.hpp, failure_surface.hpp, circle_fit.hpp, bishop.hpp,
-// validation.hpp, results.hpp, output.hpp.
+// validation.hpp, results.hpp, output.hpp, figure_script.hpp.
 #pragma once
 #include <ostream>
 #include <string>
+
+#include "postproc/figure_script.hpp"
 
 namespace talus::postproc {
 
@@ -32,9 +34,6 @@ struct PostOptions {
 // failed (the log says why). Throws talus::Error on unreadable or inconsistent results and on
 // a scene whose metrics cannot be computed (an unknown metric, a flat "slope", Bishop on an
 // elastic material), naming the file and the item.
-// The figures script this build uses by default (empty when built without TALUS_SOURCE_DIR).
-std::string figures_script();
-
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options = {});
 

@@ -1,4 +1,4 @@
-#include "app/stamps.hpp"
+#include "workflow/stamps.hpp"
 
 #include <filesystem>
 #include <fstream>

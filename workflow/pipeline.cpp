@@ -1,0 +1,115 @@
+#include "workflow/pipeline.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+#include "common/model.hpp"
+#include "postproc/postproc.hpp"
+#include "preproc/preproc.hpp"
+#include "solver/solver.hpp"
+#include "workflow/stamps.hpp"
+
+namespace fs = std::filesystem;
+
+namespace talus::workflow {
+namespace {
+
+// The folder of a stage that reads a file: `out`, else the file's own folder; created.
+std::string folder_beside(const std::optional<std::string>& out, const std::string& input) {
+  std::string folder = out ? *out : fs::path(input).parent_path().string();
+  if (folder.empty()) folder = ".";
+  fs::create_directories(folder);
+  return folder;
+}
+
+std::string mesh(const Scene& scene, const std::string& folder, bool quiet, std::ostream& log) {
+  preproc::MeshReport report;
+  const Model model = preproc::build_model(scene, &report);
+  const std::string path = (fs::path(folder) / "model.h5").string();
+  write_model(path, model);
+  if (!quiet) {
+    preproc::print_report(report, log);
+    log << "wrote " << path << std::endl;
+  }
+  return path;
+}
+
+void solve(const std::string& model_path, const std::string& folder, const StageOptions& options, std::ostream& log) {
+  const Model model = read_model(model_path);
+  solver::SolveOptions solve_options;
+  solve_options.out_dir = folder;
+  solve_options.progress = !options.quiet;
+  solve_options.threads = options.threads;
+  solve_options.checkpoint_interval = options.checkpoint_interval;
+  solve_options.restart = options.restart;
+  std::ostringstream discarded;
+  const solver::SolveSummary summary =
+      solver::solve(model, solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
+  if (!options.quiet) {
+    solver::print_summary(summary, log);
+    log << "wrote " << (fs::path(folder) / "results.h5").string() << " and results.xdmf\n";
+  }
+}
+
+int post(const std::string& results_path, const std::string& folder, bool quiet, std::ostream& log) {
+  std::ostringstream discarded;
+  return postproc::run_post(results_path, folder, quiet ? static_cast<std::ostream&>(discarded) : log);
+}
+
+}  // namespace
+
+std::string output_folder(const std::optional<std::string>& out, const Scene& scene) {
+  const fs::path folder = out ? fs::path(*out) : fs::path("out") / scene.name;
+  fs::create_directories(folder);
+  return folder.string();
+}
+
+std::string mesh_stage(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
+  const Scene scene = load_scene(scene_path, options.overrides);
+  const std::string folder = output_folder(options.out, scene);
+  stamps::forget(folder);
+  return mesh(scene, folder, options.quiet, log);
+}
+
+void solve_stage(const std::string& model_path, const StageOptions& options, std::ostream& log) {
+  const std::string folder = folder_beside(options.out, model_path);
+  stamps::forget(folder);
+  solve(model_path, folder, options, log);
+}
+
+int post_stage(const std::string& results_path, const StageOptions& options, std::ostream& log) {
+  const std::string folder = folder_beside(options.out, results_path);
+  stamps::forget(folder);
+  return post(results_path, folder, options.quiet, log);
+}
+
+int run_pipeline(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
+  const Scene scene = load_scene(scene_path, options.overrides);
+  const std::string folder = output_folder(options.out, scene);
+  const fs::path out(folder);
+  const uint64_t mesh_inputs =
+      stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
+  const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
+  const uint64_t post_inputs = stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs));
+  auto up_to_date = [&](const char* stage, uint64_t inputs, const fs::path& output) {
+    const bool same = fs::exists(output) && stamps::recorded(folder, stage) == inputs;
+    if (same && !options.quiet) log << stage << ": inputs unchanged, skipped (" << output.string() << ")\n";
+    return same;
+  };
+  if (!up_to_date("mesh", mesh_inputs, out / "model.h5")) {
+    mesh(scene, folder, options.quiet, log);
+    stamps::record(folder, "mesh", mesh_inputs);
+  }
+  if (options.restart || !up_to_date("solve", solve_inputs, out / "results.h5")) {
+    solve((out / "model.h5").string(), folder, options, log);
+    stamps::record(folder, "solve", solve_inputs);
+  }
+  if (!up_to_date("post", post_inputs, out / "metrics.json")) {
+    const int status = post((out / "results.h5").string(), folder, options.quiet, log);
+    if (status != 0) return status;
+    stamps::record(folder, "post", post_inputs);
+  }
+  return 0;
+}
+
+}  // namespace talus::workflow
