@@ -45,8 +45,8 @@ Options:
                     solve, run: write DIR/checkpoint.h5 every T s of simulated
                     time (default 0: only when interrupted)
   --restart         solve, run: continue from DIR/checkpoint.h5 and
-                    DIR/results.h5; with --threads 1 the frames are the same,
-                    bit for bit, as those of an uninterrupted run
+                    DIR/results.h5; on the same thread count the frames are
+                    the same, bit for bit, as those of an uninterrupted run
   --help, -h        this text
 
 Exit status: 0 on success, 1 on bad input or a failed run, 2 on an internal
