@@ -19,6 +19,7 @@
 #include "common/model.hpp"
 #include "common/scene.hpp"
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
 #include "postproc/output.hpp"
@@ -210,9 +211,7 @@ std::string fos_json(const Report& r) {
     json.key("slip_surface").null();
     json.key("slip_circle").null();
   }
-  const auto& bishop = *r.bishop;
-  json.key("bishop_fos").value(bishop ? std::optional<double>(bishop->factor_of_safety) : std::nullopt);
-  json.key("bishop_circle").value(bishop ? std::optional<postproc::Circle>(bishop->circle) : std::nullopt);
+  postproc::write_bishop_keys(json, *r.bishop);
   json.key("body_outline").value(postproc::outer_loop(r.model->bodies[r.slope->body].loops));
   json.end_object();
   return json.text();
@@ -254,7 +253,7 @@ int run_fos(const cli::Arguments& args) {
 
   std::optional<postproc::BishopResult> bishop = postproc::bishop_search(
       slope.profile, {material.cohesion, material.friction_angle, material.density * scene.run.gravity.norm()});
-  if (bishop) bishop->circle.centre = slope.mirror.point(bishop->circle.centre);
+  if (bishop) bishop = postproc::mirrored(*bishop, slope.mirror);
 
   solver::ReductionProblem problem;
   problem.model = &model;

@@ -14,6 +14,7 @@
 #include "common/error.hpp"
 #include "common/scene.hpp"
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
 #include "postproc/output.hpp"
@@ -167,12 +168,7 @@ void slope_metrics(const Results& results, const BodySelection& body, const std:
                           "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle)"));
     m.soil = {material.cohesion, material.friction_angle, material.density * results.metadata.run.gravity.norm()};
     m.bishop = bishop_search(profile, m.soil);
-    if (m.bishop) {
-      m.bishop->circle.centre = m.mirror.point(m.bishop->circle.centre);
-      const double entry = m.mirror.x(m.bishop->x_entry), exit = m.mirror.x(m.bishop->x_exit);
-      m.bishop->x_entry = std::min(entry, exit);
-      m.bishop->x_exit = std::max(entry, exit);
-    }
+    if (m.bishop) m.bishop = mirrored(*m.bishop, m.mirror);
   }
 }
 
@@ -241,8 +237,7 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
     json.key("shear_band").value(m.shear_band);
   }
   if (m.bishop_done) {
-    json.key("bishop_fos").value(m.bishop ? std::optional<double>(m.bishop->factor_of_safety) : std::nullopt);
-    json.key("bishop_circle").value(m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
+    write_bishop_keys(json, m.bishop);
     json.key("bishop_soil").begin_object()
         .key("cohesion_Pa").value(m.soil.cohesion)
         .key("friction_angle_deg").value(m.soil.friction_angle)
@@ -310,7 +305,7 @@ void print_summary(const Metrics& m, std::ostream& log) {
     if (m.bishop)
       log << "F = " << format(m.bishop->factor_of_safety, 3, "") << ", centre (" << format(m.bishop->circle.centre.x(), 2, "")
           << ", " << format(m.bishop->circle.centre.y(), 2, "") << ") m, R " << format(m.bishop->circle.radius, 2, " m")
-          << "\n";
+          << ", " << to_string(m.bishop->kind) << " circle, " << m.bishop->circles_evaluated << " circles evaluated\n";
     else
       log << "no admissible circle\n";
   }

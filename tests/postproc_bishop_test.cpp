@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 
 namespace talus::postproc {
 namespace {
@@ -119,6 +120,32 @@ TEST(Bishop, SliceModelSetsWeightStrengthAndPorePressure) {
   const auto wet_search = bishop_search(profile, PorePressureRatio(kDefaultSand, 1, 0.3));
   ASSERT_TRUE(wet_search);
   EXPECT_LE(wet_search->factor_of_safety, wet);
+}
+
+// metrics.json and fos.json carry the same Bishop keys; a slope that descends to the left is
+// searched mirrored, and its entry stays the uphill end.
+TEST(Bishop, JsonKeysAndTheMirroredFrame) {
+  const auto critical = bishop_search(default_slope(), kDefaultSand);
+  ASSERT_TRUE(critical);
+  const BishopResult left = mirrored(*critical, Mirror{true});
+  EXPECT_EQ(left.circle.centre.x(), -critical->circle.centre.x());
+  EXPECT_EQ(left.x_entry, -critical->x_entry);
+  EXPECT_GT(left.x_entry, left.x_exit);
+  JsonWriter json;
+  json.begin_object();
+  write_bishop_keys(json, left);
+  json.end_object();
+  const std::string& text = json.text();
+  for (const char* key : {"\"bishop_fos\": 0.712", "\"bishop_circle\": {", "\"bishop_entry_m\": [-5.57",
+                          "\"bishop_exit_m\": [-10.195", "\"bishop_circle_kind\": \"toe\"",
+                          "\"bishop_tangent_to_base\": false", "\"bishop_circles_evaluated\": "})
+    EXPECT_NE(text.find(key), std::string::npos) << key << " in\n" << text;
+  JsonWriter none;
+  none.begin_object();
+  write_bishop_keys(none, std::nullopt);
+  none.end_object();
+  EXPECT_NE(none.text().find("\"bishop_fos\": null"), std::string::npos) << none.text();
+  EXPECT_NE(none.text().find("\"bishop_circles_evaluated\": null"), std::string::npos) << none.text();
 }
 
 TEST(Bishop, RejectsCirclesThatLeaveTheBody) {
