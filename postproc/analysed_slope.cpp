@@ -49,12 +49,7 @@ std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector
 
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil) {
   std::optional<BishopResult> bishop = bishop_search(slope.profile, soil);
-  if (bishop) {
-    bishop->circle.centre = slope.mirror.point(bishop->circle.centre);
-    const double entry = slope.mirror.x(bishop->x_entry), exit = slope.mirror.x(bishop->x_exit);
-    bishop->x_entry = std::min(entry, exit);
-    bishop->x_exit = std::max(entry, exit);
-  }
+  if (bishop) bishop = mirrored(*bishop, slope.mirror);
   return bishop;
 }
 

@@ -45,7 +45,7 @@ std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector
                                                  const std::vector<std::size_t>& which, const Mirror& mirror);
 
 // Bishop's critical circle of the slope (bishop_search on the canonical profile), its centre and
-// its entry and exit back in the scene's frame (entry the smaller x). Empty when none is admissible.
+// its entry (uphill) and exit back in the scene's frame (mirrored). Empty when none is admissible.
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil);
 
 }  // namespace talus::postproc

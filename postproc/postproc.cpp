@@ -12,6 +12,7 @@
 #include "common/scene.hpp"
 #include "postproc/analysed_slope.hpp"
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
 #include "postproc/figure_script.hpp"
@@ -195,8 +196,7 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
     json.key("shear_band").value(m.shear_band);
   }
   if (m.bishop_done) {
-    json.key("bishop_fos").value(m.bishop ? std::optional<double>(m.bishop->factor_of_safety) : std::nullopt);
-    json.key("bishop_circle").value(m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
+    write_bishop_keys(json, m.bishop);
     json.key("bishop_soil").begin_object()
         .key("cohesion_Pa").value(m.soil.cohesion)
         .key("friction_angle_deg").value(m.soil.friction_angle)
@@ -258,7 +258,7 @@ void print_summary(const Metrics& m, std::ostream& log) {
     if (m.bishop)
       log << "F = " << format(m.bishop->factor_of_safety, 3, "") << ", centre (" << format(m.bishop->circle.centre.x(), 2, "")
           << ", " << format(m.bishop->circle.centre.y(), 2, "") << ") m, R " << format(m.bishop->circle.radius, 2, " m")
-          << "\n";
+          << ", " << to_string(m.bishop->kind) << " circle, " << m.bishop->circles_evaluated << " circles evaluated\n";
     else
       log << "no admissible circle\n";
   }

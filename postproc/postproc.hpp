@@ -6,7 +6,9 @@
 //                             time_to_rest_s; front.csv (time_s, front_x_m, front_velocity_m_s)
 //   metrics "failure_surface" failed_area_m2, failure_surface [[x, y], ...], slip_circle
 //                             {xc_m, yc_m, r_m}, onset_time_s, shear_band [[x, y], ...]
-//   metrics "bishop"          bishop_fos, bishop_circle {xc_m, yc_m, r_m}
+//   metrics "bishop"          bishop_fos, bishop_circle {xc_m, yc_m, r_m}, bishop_entry_m,
+//                             bishop_exit_m, bishop_circle_kind, bishop_tangent_to_base,
+//                             bishop_circles_evaluated, bishop_soil
 //   metrics "spring_mass"     spring_mass {...}; spring_mass.csv (time_s, mpm_m, exact_m)
 //   metrics "box_incline"     box_incline {...}; box_incline.csv (time_s, mpm_m, exact_m)
 //   always                    energy.csv (time_s, kinetic_J, potential_J, strain_J)

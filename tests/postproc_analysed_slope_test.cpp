@@ -89,7 +89,7 @@ TEST(AnalysedSlope, ASlopeDescendingToTheLeftIsMirroredIntoTheCanonicalFrame) {
   EXPECT_EQ(x[0], Eigen::Vector2d(5, 6));
   EXPECT_EQ(x[1], Eigen::Vector2d(1, 2));
 
-  // Bishop's critical circle comes back in the scene's frame, entry left of exit.
+  // Bishop's critical circle comes back in the scene's frame, the entry uphill of the exit.
   const SoilStrength soil{1e4, 20, 2e4};
   const auto left = critical_circle(slope, soil);
   BodyInfo right_body = model.bodies[1];
@@ -99,8 +99,9 @@ TEST(AnalysedSlope, ASlopeDescendingToTheLeftIsMirroredIntoTheCanonicalFrame) {
   EXPECT_NEAR(left->factor_of_safety, right->factor_of_safety, 1e-12);
   EXPECT_NEAR(left->circle.centre.x(), -right->circle.centre.x(), 1e-9);
   EXPECT_NEAR(left->circle.radius, right->circle.radius, 1e-9);
-  EXPECT_NEAR(left->x_entry, -right->x_exit, 1e-9);
-  EXPECT_LT(left->x_entry, left->x_exit);
+  EXPECT_NEAR(left->x_entry, -right->x_entry, 1e-9);
+  EXPECT_NEAR(left->x_exit, -right->x_exit, 1e-9);
+  EXPECT_GT(left->x_entry, left->x_exit);  // descending to the left: uphill is to the right
 }
 
 // A slope descending to the left whose particles first settle by 0.1 m (the "equilibrium"),

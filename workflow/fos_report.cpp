@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "postproc/bishop_json.hpp"
 #include "postproc/output.hpp"
 #include "postproc/slope_geometry.hpp"
 
@@ -87,9 +88,7 @@ std::string fos_json(const FosReport& r) {
     json.key("slip_surface").null();
     json.key("slip_circle").null();
   }
-  const auto& bishop = r.bishop;
-  json.key("bishop_fos").value(bishop ? std::optional<double>(bishop->factor_of_safety) : std::nullopt);
-  json.key("bishop_circle").value(bishop ? std::optional<postproc::Circle>(bishop->circle) : std::nullopt);
+  postproc::write_bishop_keys(json, r.bishop);
   json.key("body_outline").value(postproc::outer_loop(r.model.bodies[r.body].loops));
   json.end_object();
   return json.text();
