@@ -5,6 +5,8 @@
 #include <map>
 #include <sstream>
 
+#include "common/atomic_file.hpp"
+
 namespace talus::stamps {
 namespace {
 
@@ -45,12 +47,9 @@ uint64_t recorded(const std::string& folder, const std::string& stage) {
 void record(const std::string& folder, const std::string& stage, uint64_t fingerprint) {
   auto stamps = read_all(folder);
   stamps[stage] = fingerprint;
-  const std::string temporary = stamp_path(folder) + ".tmp";
-  {
-    std::ofstream out(temporary);
+  write_stream_atomically(stamp_path(folder), [&](std::ostream& out) {
     for (const auto& [name, value] : stamps) out << name << " " << std::hex << value << "\n";
-  }
-  std::filesystem::rename(temporary, stamp_path(folder));
+  });
 }
 
 void forget(const std::string& folder) {

@@ -1,7 +1,6 @@
 #include "postproc/results.hpp"
 
 #include <cmath>
-#include <filesystem>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
@@ -94,9 +93,7 @@ Results read_results(const std::string& path) {
 }
 
 void write_results(const std::string& path, const Results& results) {
-  const std::string temporary = path + ".tmp";
-  {
-    const h5::File file = h5::File::create(temporary);
+  h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-results", kResultsFormatVersion);
     write_metadata(file, results.metadata);
     const hsize_t f = results.frames(), n = results.particles();
@@ -119,10 +116,7 @@ void write_results(const std::string& path, const Results& results) {
     h5::write(file, "history/strain_energy", results.strain_energy, {h});
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
     h5::set_attribute(file, "/", "complete", static_cast<int64_t>(results.complete));
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw Error(located(path, "", "cannot replace with " + temporary + ": " + error.message()));
+  });
 }
 
 }  // namespace talus::postproc

@@ -1,12 +1,19 @@
-// The shared facilities of common/: plane geometry and fingerprints.
+// The shared facilities of common/: plane geometry, fingerprints and atomic file replacement.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
 
+#include "common/atomic_file.hpp"
+#include "common/error.hpp"
 #include "common/fingerprint.hpp"
 #include "common/geometry.hpp"
+#include "common/h5.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -14,6 +21,22 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::ScratchDir;
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string message_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
 
 TEST(Geometry, SignedAreaIsPositiveCounterClockwise) {
   std::vector<Eigen::Vector2d> square{{0, 0}, {2, 0}, {2, 1}, {0, 1}};
@@ -53,6 +76,55 @@ TEST(Fingerprint, HashesAFilesBytes) {
   Fingerprint missing;
   EXPECT_FALSE(missing.add_file(dir.file("nowhere")));
   EXPECT_EQ(missing.value(), Fingerprint().value());
+}
+
+TEST(AtomicFile, ReplacesTheFileWhole) {
+  ScratchDir dir("atomic");
+  const std::string path = dir.file("out.txt");
+  write_text_atomically(path, "first\n");
+  write_text_atomically(path, "second\n");
+  EXPECT_EQ(contents(path), "second\n");
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST(AtomicFile, AFailedFillLeavesTheOldFileAndNoTemporary) {
+  ScratchDir dir("atomic-fail");
+  const std::string path = dir.file("out.txt");
+  write_text_atomically(path, "old\n");
+  EXPECT_THROW(write_stream_atomically(path,
+                                       [](std::ostream& out) {
+                                         out << "half";
+                                         throw std::runtime_error("stop");
+                                       }),
+               std::runtime_error);
+  EXPECT_EQ(contents(path), "old\n");
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST(AtomicFile, ErrorsNameTheFile) {
+  ScratchDir dir("atomic-error");
+  const std::string unopenable = dir.file("missing/out.txt");
+  EXPECT_NE(message_of([&] { write_text_atomically(unopenable, "x"); }).find("missing/out.txt.tmp: cannot open"),
+            std::string::npos);
+  // A folder in the way: the rename fails, and the temporary file goes.
+  const std::string folder = dir.file("taken");
+  fs::create_directories(folder + "/inside");
+  EXPECT_NE(message_of([&] { write_text_atomically(folder, "x"); }).find("taken: cannot replace"), std::string::npos);
+  EXPECT_FALSE(fs::exists(folder + ".tmp"));
+}
+
+TEST(AtomicFile, Hdf5FilesGoThroughTheSamePath) {
+  ScratchDir dir("atomic-h5");
+  const std::string path = dir.file("data.h5");
+  h5::write_atomically(path, [](const h5::File& file) { h5::write(file, "x", std::vector<double>{1, 2}, {2}); });
+  EXPECT_THROW(h5::write_atomically(path,
+                                    [](const h5::File& file) {
+                                      h5::write(file, "x", std::vector<double>{3}, {1});
+                                      throw Error("stop");
+                                    }),
+               Error);
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_EQ(h5::read_doubles(h5::File::open_read(path), "x"), (std::vector<double>{1, 2}));
 }
 
 }  // namespace
