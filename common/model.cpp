@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/material.hpp"
 #include "common/model_io.hpp"
 
 namespace talus {
@@ -170,14 +171,7 @@ void read_metadata(const h5::File& file, Model& model) {
     m.cohesion = h5::get_double(file, group, "cohesion");
     m.dilation_angle = h5::get_double(file, group, "dilation_angle");
     m.tensile_strength = h5::get_double(file, group, "tensile_strength");
-    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5) ||
-        !std::isfinite(m.density) || !std::isfinite(m.youngs_modulus))
-      throw Error(located(file.path(), group, "density, youngs_modulus or poisson_ratio out of range"));
-    if (!(m.friction_angle >= 0 && m.friction_angle < 90) || !(m.cohesion >= 0) || !std::isfinite(m.cohesion) ||
-        !(m.dilation_angle >= 0 && m.dilation_angle <= m.friction_angle) || std::isnan(m.tensile_strength) ||
-        std::isinf(m.tensile_strength))
-      throw Error(located(file.path(), group,
-                          "friction_angle, cohesion, dilation_angle or tensile_strength out of range"));
+    check_material(m, file.path(), group + "@");
     model.materials.push_back(m);
   }
   for (const auto& body : model.bodies)

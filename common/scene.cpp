@@ -9,6 +9,8 @@
 #include <toml++/toml.h>
 
 #include "common/error.hpp"
+#include "common/material.hpp"
+#include "common/range.hpp"
 
 namespace talus {
 namespace {
@@ -59,16 +61,20 @@ class TableReader {
     }
     const auto value = (*table_)[key].value<double>();
     if (!value) fail(key, "expected a number");
-    const double x = *value;
-    const bool below = min_inclusive ? x < min : x <= min;
-    const bool above = max_inclusive ? x > max : x >= max;
-    if (!std::isfinite(x) || below || above) {
-      std::ostringstream range;
-      range << "got " << x << ", expected a finite number in " << (min_inclusive ? "[" : "(") << bound(min) << ", "
-            << bound(max) << (max_inclusive ? "]" : ")");
-      fail(key, range.str());
+    const std::string problem = NumberRange{min, max, min_inclusive, max_inclusive}.problem(*value);
+    if (!problem.empty()) fail(key, problem);
+    return *value;
+  }
+
+  // A number of any value, infinite or NaN too, for a caller that checks it (materials).
+  double any_number(const std::string& key, std::optional<double> fallback) {
+    if (!has(key)) {
+      if (!fallback) fail(key, "missing (a number is required)");
+      return *fallback;
     }
-    return x;
+    const auto value = (*table_)[key].value<double>();
+    if (!value) fail(key, "expected a number");
+    return *value;
   }
 
   long integer(const std::string& key, long fallback, long min, long max) {
@@ -158,12 +164,6 @@ class TableReader {
   const std::string& prefix() const { return prefix_; }
 
  private:
-  static std::string bound(double x) {
-    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-    std::ostringstream s;
-    s << x;
-    return s.str();
-  }
   static std::string join(const std::vector<std::string>& names) {
     std::string out;
     for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -239,17 +239,22 @@ Material read_material(const std::string& name, const toml::table* table, const 
   if (model == "linear_elastic") m.model = MaterialModel::LinearElastic;
   else if (model == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
   else r.fail("model", "unknown material model '" + model + "' (expected linear_elastic or mohr_coulomb)");
-  m.density = r.number("density", std::nullopt, 0, kInf, false);
-  m.youngs_modulus = r.number("youngs_modulus", std::nullopt, 0, kInf, false);
-  m.poisson_ratio = r.number("poisson_ratio", std::nullopt, 0, 0.5, true, false);
+  // Each parameter checked as it is read (common/material.hpp), so the first bad one is reported.
+  auto parameter = [&](double Material::*field, const std::string& key, std::optional<double> fallback) {
+    m.*field = r.any_number(key, fallback);
+    if (const auto problem = parameter_problem(m, key)) r.fail(key, problem->message);
+  };
+  parameter(&Material::density, "density", std::nullopt);
+  parameter(&Material::youngs_modulus, "youngs_modulus", std::nullopt);
+  parameter(&Material::poisson_ratio, "poisson_ratio", std::nullopt);
   if (m.model == MaterialModel::MohrCoulomb) {
-    m.friction_angle = r.number("friction_angle", std::nullopt, 0, 90, true, false);
-    m.cohesion = r.number("cohesion", std::nullopt, 0, kInf);
-    m.dilation_angle = r.number("dilation_angle", 0.0, 0, m.friction_angle);
+    parameter(&Material::friction_angle, "friction_angle", std::nullopt);
+    parameter(&Material::cohesion, "cohesion", std::nullopt);
+    parameter(&Material::dilation_angle, "dilation_angle", 0.0);
+    // In a scene, no tensile_strength is no cut-off; a strength given is a number >= 0.
     m.tensile_strength = r.has("tensile_strength") ? r.number("tensile_strength", std::nullopt, 0, kInf) : -1;
-    if (m.friction_angle == 0 && m.cohesion == 0)
-      r.fail("cohesion", "a Mohr-Coulomb material needs friction_angle > 0 or cohesion > 0");
   }
+  if (const auto problem = material_problem(m)) r.fail(problem->key, problem->message);
   r.finish();
   return m;
 }

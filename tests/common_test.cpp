@@ -1,4 +1,5 @@
-// The shared facilities of common/: plane geometry, fingerprints and atomic file replacement.
+// The shared facilities of common/: plane geometry, fingerprints, atomic file replacement and
+// the material check.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "common/fingerprint.hpp"
 #include "common/geometry.hpp"
 #include "common/h5.hpp"
+#include "common/material.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -125,6 +127,63 @@ TEST(AtomicFile, Hdf5FilesGoThroughTheSamePath) {
                Error);
   EXPECT_FALSE(fs::exists(path + ".tmp"));
   EXPECT_EQ(h5::read_doubles(h5::File::open_read(path), "x"), (std::vector<double>{1, 2}));
+}
+
+Material sand() {
+  Material m;
+  m.name = "sand";
+  m.model = MaterialModel::MohrCoulomb;
+  m.density = 1800;
+  m.youngs_modulus = 1e7;
+  m.poisson_ratio = 0.3;
+  m.friction_angle = 30;
+  m.cohesion = 1e3;
+  return m;
+}
+
+TEST(Material, ValidMaterialsHaveNoProblem) {
+  EXPECT_FALSE(material_problem(sand()));
+  Material elastic = testing::elastic(2000, 1e7, 0.25);
+  EXPECT_FALSE(material_problem(elastic));
+  Material tresca = sand();
+  tresca.friction_angle = 0;
+  EXPECT_FALSE(material_problem(tresca));
+}
+
+TEST(Material, TheFirstProblemIsNamedWithItsRange) {
+  Material m = sand();
+  m.poisson_ratio = 0.5;
+  m.dilation_angle = 40;
+  auto problem = material_problem(m);
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->key, "poisson_ratio");
+  EXPECT_EQ(problem->message, "got 0.5, expected a finite number in [0, 0.5)");
+
+  m = sand();
+  m.dilation_angle = 40;
+  problem = material_problem(m);
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->key, "dilation_angle");
+  EXPECT_EQ(problem->message, "got 40, expected a finite number in [0, 30]");
+
+  m = sand();
+  m.density = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(material_problem(m)->message, "got inf, expected a finite number in (0, inf]");
+
+  m = sand();
+  m.friction_angle = 0;
+  m.cohesion = 0;
+  problem = material_problem(m);
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->key, "cohesion");
+  EXPECT_NE(problem->message.find("friction_angle > 0 or cohesion > 0"), std::string::npos);
+}
+
+TEST(Material, CheckMaterialLocatesTheProblem) {
+  Material m = sand();
+  m.tensile_strength = std::numeric_limits<double>::quiet_NaN();
+  const std::string message = message_of([&] { check_material(m, "model.h5", "materials/sand@"); });
+  EXPECT_EQ(message.rfind("model.h5: materials/sand@tensile_strength: got ", 0), 0u) << message;
 }
 
 }  // namespace
