@@ -84,11 +84,10 @@ struct EnergyRecord {
 
 EnergyRecord read_energy(const std::string& results);
 
-// Even-odd rule over the body's loops.
-bool inside_loops(const std::vector<std::vector<Eigen::Vector2d>>& loops, const Eigen::Vector2d& x);
 // Moves each particle towards a random point of its own element by a random fraction (up to
 // `fraction`) of the way: a convex combination, so it stays in its element; a move that would
-// leave its body's outline is not made. Returns the number of particles moved.
+// leave its body's outline (common/geometry.hpp's inside_loops) is not made. Returns the number
+// of particles moved.
 std::size_t perturb_positions(Model& model, std::mt19937& random, double fraction);
 // Whether x lies in a triangle of the mesh (with a small tolerance).
 bool inside_mesh(const Model& model, const Eigen::Vector2d& x);

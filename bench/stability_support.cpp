@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/geometry.hpp"
 #include "common/h5.hpp"
 #include "common/scene.hpp"
 #include "postproc/output.hpp"
@@ -113,18 +114,6 @@ EnergyRecord read_energy(const std::string& results) {
     record.total_particle.push_back(particle[k] + potential[k] + record.strain[k]);
   }
   return record;
-}
-
-bool inside_loops(const std::vector<std::vector<Eigen::Vector2d>>& loops, const Eigen::Vector2d& x) {
-  bool inside = false;
-  for (const auto& loop : loops)
-    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-      const Eigen::Vector2d& a = loop[i];
-      const Eigen::Vector2d& b = loop[j];
-      if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < a.x() + (x.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
-        inside = !inside;
-    }
-  return inside;
 }
 
 std::size_t perturb_positions(Model& model, std::mt19937& random, double fraction) {

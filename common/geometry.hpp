@@ -17,4 +17,19 @@ inline double signed_area(const std::vector<Eigen::Vector2d>& loop) {
   return 0.5 * twice_area;
 }
 
+// Even-odd rule by ray casting along +x: inside when a ray from p crosses the loops' edges an
+// odd number of times (outer loops, holes, islands in holes). Plain floating point, for checks
+// and benchmarks; preproc::Region is the exact one the seeding uses.
+inline bool inside_loops(const std::vector<std::vector<Eigen::Vector2d>>& loops, const Eigen::Vector2d& p) {
+  bool odd = false;
+  for (const auto& loop : loops)
+    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+      const Eigen::Vector2d& a = loop[i];
+      const Eigen::Vector2d& b = loop[j];
+      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()))
+        odd = !odd;
+    }
+  return odd;
+}
+
 }  // namespace talus

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "common/error.hpp"
+#include "common/geometry.hpp"
 #include "common/model.hpp"
 #include "common/scene.hpp"
 #include "preproc/preproc.hpp"
@@ -22,7 +23,6 @@ namespace {
 
 using testing::expect_valid_mesh;
 using testing::expect_valid_particles;
-using testing::inside;
 using testing::ScratchDir;
 using testing::twice_signed_area;
 using testing::volume_per_body;
@@ -105,7 +105,7 @@ TEST(PreprocSeeding, TwoBodiesGetDisjointParticles) {
   std::map<int32_t, std::set<int32_t>> bodies_in_element;
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
     const int other = 1 - model.body[p];
-    EXPECT_FALSE(inside(model.bodies[other].loops, model.position[p]));
+    EXPECT_FALSE(inside_loops(model.bodies[other].loops, model.position[p]));
     bodies_in_element[model.element[p]].insert(model.body[p]);
   }
   for (const auto& [element, bodies] : bodies_in_element) EXPECT_EQ(bodies.size(), 1u) << element;

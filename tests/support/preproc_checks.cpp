@@ -6,19 +6,9 @@
 #include <fstream>
 #include <set>
 
-namespace talus::testing {
+#include "common/geometry.hpp"
 
-bool inside(const Loops& loops, const Eigen::Vector2d& p) {
-  bool odd = false;
-  for (const auto& loop : loops)
-    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-      const Eigen::Vector2d& a = loop[i];
-      const Eigen::Vector2d& b = loop[j];
-      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()))
-        odd = !odd;
-    }
-  return odd;
-}
+namespace talus::testing {
 
 double twice_signed_area(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
@@ -68,7 +58,7 @@ void expect_valid_particles(const Model& model, const Scene& scene) {
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
     const int b = model.body[p];
     const BodyInfo& body = model.bodies[b];
-    ASSERT_TRUE(inside(body.loops, model.position[p])) << "particle " << p << " outside body " << body.name;
+    ASSERT_TRUE(inside_loops(body.loops, model.position[p])) << "particle " << p << " outside body " << body.name;
     const Eigen::Vector3d w = barycentric(model, model.element[p], model.position[p]);
     ASSERT_GT(w.minCoeff(), 0) << "particle " << p << " outside its element " << model.element[p];
     const double density = model.materials[body.material].density;

@@ -1,6 +1,6 @@
-// Checks of the preprocessor's output written independently of preproc/ (geometry by hand, not
-// CGAL), shared by the preprocessor's test files: mesh and particle invariants, volumes per body,
-// and meshing a scene of geometries/.
+// Checks of the preprocessor's output written independently of preproc/ (geometry by hand and
+// common/geometry.hpp's even-odd rule, not CGAL), shared by the preprocessor's test files: mesh
+// and particle invariants, volumes per body, and meshing a scene of geometries/.
 #pragma once
 #include <Eigen/Core>
 #include <map>
@@ -13,11 +13,6 @@
 #include "support/test_support.hpp"
 
 namespace talus::testing {
-
-using Loops = std::vector<std::vector<Eigen::Vector2d>>;
-
-// Even-odd rule by ray casting along +x: a crossing of any loop edge flips the parity.
-bool inside(const Loops& loops, const Eigen::Vector2d& p);
 
 double twice_signed_area(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
 // Barycentric coordinates of p in triangle e.
