@@ -129,17 +129,7 @@ TEST(AtomicFile, Hdf5FilesGoThroughTheSamePath) {
   EXPECT_EQ(h5::read_doubles(h5::File::open_read(path), "x"), (std::vector<double>{1, 2}));
 }
 
-Material sand() {
-  Material m;
-  m.name = "sand";
-  m.model = MaterialModel::MohrCoulomb;
-  m.density = 1800;
-  m.youngs_modulus = 1e7;
-  m.poisson_ratio = 0.3;
-  m.friction_angle = 30;
-  m.cohesion = 1e3;
-  return m;
-}
+Material sand() { return testing::mohr_coulomb(1800, 1e7, 0.3, 30, 1e3); }
 
 TEST(Material, ValidMaterialsHaveNoProblem) {
   EXPECT_FALSE(material_problem(sand()));
