@@ -48,6 +48,18 @@ TEST(Geometry, SignedAreaIsPositiveCounterClockwise) {
   EXPECT_EQ(signed_area({}), 0.0);
 }
 
+TEST(Geometry, InsideLoopsIsTheEvenOddRule) {
+  auto square = [](double x0, double y0, double side) {
+    return std::vector<Eigen::Vector2d>{{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+  };
+  // A 4x4 square with a 2x2 hole holding a 1x1 island.
+  const std::vector<std::vector<Eigen::Vector2d>> loops{square(0, 0, 4), square(1, 1, 2), square(1.5, 1.5, 1)};
+  EXPECT_TRUE(inside_loops(loops, {0.5, 0.5}));
+  EXPECT_FALSE(inside_loops(loops, {1.2, 1.2}));
+  EXPECT_TRUE(inside_loops(loops, {2, 2}));
+  EXPECT_FALSE(inside_loops(loops, {5, 2}));
+}
+
 TEST(Fingerprint, IsFnv1aFromTalusOwnStart) {
   // Reference values of 64-bit FNV-1a, from FNV's offset basis.
   constexpr uint64_t kFnvOffsetBasis = 0xcbf29ce484222325ull;
