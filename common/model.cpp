@@ -225,6 +225,19 @@ void read_metadata(const h5::File& file, Model& model) {
   post.incline_angle = h5::get_double(file, "settings/post", "incline_angle");
 }
 
+void write_results_start(const h5::File& file, const Model& metadata,
+                         const std::vector<Eigen::Vector2d>& initial_position, const std::vector<int32_t>& body,
+                         const std::vector<double>& mass, const std::vector<double>& volume) {
+  write_format_tag(file, "talus-results", kResultsFormatVersion);
+  write_metadata(file, metadata);
+  const hsize_t n = initial_position.size();
+  h5::write(file, "particles/initial_position", flatten(initial_position), {n, 2});
+  h5::write(file, "particles/body", body, {n});
+  h5::write(file, "particles/mass", mass, {n});
+  h5::write(file, "particles/volume", volume, {n});
+  h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
+}
+
 void write_model(const std::string& path, const Model& model) {
   h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-model", kModelFormatVersion);
