@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 
 namespace talus::h5 {
@@ -164,18 +165,17 @@ File File::open_write(const std::string& path) {
 
 void File::flush() const { H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL); }
 
+void File::close() {
+  if (!handle_.valid()) return;
+  if (H5Fclose(handle_.release()) < 0) throw Error(located(path_, "", "cannot close HDF5 file (disk full?)"));
+}
+
 void write_atomically(const std::string& path, const std::function<void(const File&)>& fill) {
-  const std::string temporary = path + ".tmp";
-  try {
+  talus::write_atomically(path, [&](const std::string& temporary) {
     File file = File::create(temporary);
     fill(file);
     file.close();
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+  });
 }
 
 bool exists(const File& file, const std::string& path) {

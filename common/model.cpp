@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/material.hpp"
 #include "common/model_io.hpp"
 
 namespace talus {
@@ -170,14 +171,7 @@ void read_metadata(const h5::File& file, Model& model) {
     m.cohesion = h5::get_double(file, group, "cohesion");
     m.dilation_angle = h5::get_double(file, group, "dilation_angle");
     m.tensile_strength = h5::get_double(file, group, "tensile_strength");
-    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5) ||
-        !std::isfinite(m.density) || !std::isfinite(m.youngs_modulus))
-      throw Error(located(file.path(), group, "density, youngs_modulus or poisson_ratio out of range"));
-    if (!(m.friction_angle >= 0 && m.friction_angle < 90) || !(m.cohesion >= 0) || !std::isfinite(m.cohesion) ||
-        !(m.dilation_angle >= 0 && m.dilation_angle <= m.friction_angle) || std::isnan(m.tensile_strength) ||
-        std::isinf(m.tensile_strength))
-      throw Error(located(file.path(), group,
-                          "friction_angle, cohesion, dilation_angle or tensile_strength out of range"));
+    check_material(m, file.path(), group + "@");
     model.materials.push_back(m);
   }
   for (const auto& body : model.bodies)
@@ -229,6 +223,19 @@ void read_metadata(const h5::File& file, Model& model) {
   post.spring_amplitude = h5::get_double(file, "settings/post", "spring_amplitude");
   post.spring_omega = h5::get_double(file, "settings/post", "spring_omega");
   post.incline_angle = h5::get_double(file, "settings/post", "incline_angle");
+}
+
+void write_results_start(const h5::File& file, const Model& metadata,
+                         const std::vector<Eigen::Vector2d>& initial_position, const std::vector<int32_t>& body,
+                         const std::vector<double>& mass, const std::vector<double>& volume) {
+  write_format_tag(file, "talus-results", kResultsFormatVersion);
+  write_metadata(file, metadata);
+  const hsize_t n = initial_position.size();
+  h5::write(file, "particles/initial_position", flatten(initial_position), {n, 2});
+  h5::write(file, "particles/body", body, {n});
+  h5::write(file, "particles/mass", mass, {n});
+  h5::write(file, "particles/volume", volume, {n});
+  h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
 }
 
 void write_model(const std::string& path, const Model& model) {

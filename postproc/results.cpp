@@ -1,7 +1,6 @@
 #include "postproc/results.hpp"
 
 #include <cmath>
-#include <filesystem>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
@@ -94,16 +93,10 @@ Results read_results(const std::string& path) {
 }
 
 void write_results(const std::string& path, const Results& results) {
-  const std::string temporary = path + ".tmp";
-  {
-    const h5::File file = h5::File::create(temporary);
-    write_format_tag(file, "talus-results", kResultsFormatVersion);
-    write_metadata(file, results.metadata);
+  h5::write_atomically(path, [&](const h5::File& file) {
+    write_results_start(file, results.metadata, results.initial_position, results.body, results.mass,
+                        results.volume);
     const hsize_t f = results.frames(), n = results.particles();
-    h5::write(file, "particles/initial_position", flatten({results.initial_position}), {n, 2});
-    h5::write(file, "particles/body", results.body, {n});
-    h5::write(file, "particles/mass", results.mass, {n});
-    h5::write(file, "particles/volume", results.volume, {n});
     h5::write(file, "frames/time", results.frame_time, {f});
     h5::write(file, "frames/position", flatten(results.position), {f, n, 2});
     h5::write(file, "frames/velocity", flatten(results.velocity), {f, n, 2});
@@ -117,12 +110,8 @@ void write_results(const std::string& path, const Results& results) {
     h5::write(file, "history/kinetic_energy", results.kinetic_energy, {h});
     h5::write(file, "history/potential_energy", results.potential_energy, {h});
     h5::write(file, "history/strain_energy", results.strain_energy, {h});
-    h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
     h5::set_attribute(file, "/", "complete", static_cast<int64_t>(results.complete));
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw Error(located(path, "", "cannot replace with " + temporary + ": " + error.message()));
+  });
 }
 
 }  // namespace talus::postproc

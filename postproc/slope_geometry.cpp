@@ -4,19 +4,10 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "common/geometry.hpp"
 
 namespace talus::postproc {
 namespace {
-
-double signed_area(const Polyline& loop) {
-  double twice_area = 0;
-  for (std::size_t i = 0; i < loop.size(); ++i) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
-    twice_area += a.x() * b.y() - b.x() * a.y();
-  }
-  return 0.5 * twice_area;
-}
 
 // The upper boundary of a simple polygon, x increasing. Walking a counter-clockwise loop, the
 // top runs from the rightmost to the leftmost vertex; of several vertices on a vertical side,

@@ -1,9 +1,9 @@
 #include "solver/results.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/model_io.hpp"
 #include "solver/particle_io.hpp"
@@ -15,17 +15,8 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
       file_(h5::File::create(path_)) {
-  write_format_tag(file_, "talus-results", kResultsFormatVersion);
-  write_metadata(file_, model);
-  const hsize_t n = particles_;
-  std::vector<double> flat;
-  for (const auto& x : model.position) flat.insert(flat.end(), {x.x(), x.y()});
-  h5::write(file_, "particles/initial_position", flat, {n, 2});
-  h5::write(file_, "particles/body", model.body, {n});
-  h5::write(file_, "particles/mass", model.mass, {n});
-  h5::write(file_, "particles/volume", model.volume, {n});
+  write_results_start(file_, model, model.position, model.body, model.mass, model.volume);
   open_datasets(0, 0, true);
-  h5::set_attribute(file_, "/", "particles", static_cast<int64_t>(n));
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
   h5::set_attribute(file_, "/", "loop_seconds", 0.0);
   h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
@@ -172,9 +163,7 @@ void ResultsWriter::write_xdmf() const {
   // A temporal collection of polyvertex grids whose data are hyperslabs of the frame datasets.
   const std::string h5_name = std::filesystem::path(path_).filename().string();
   const std::size_t n = particles_;
-  const std::string temporary = xdmf_path_ + ".tmp";
-  {
-    std::ofstream out(temporary);
+  write_stream_atomically(xdmf_path_, [&](std::ostream& out) {
     out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
         << "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     auto slab = [&](std::size_t frame, const std::string& set, int width, int component) {
@@ -205,8 +194,7 @@ void ResultsWriter::write_xdmf() const {
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";
-  }
-  std::filesystem::rename(temporary, xdmf_path_);
+  });
 }
 
 }  // namespace talus::solver

@@ -315,6 +315,16 @@ std::vector<Row> rows() {
          return model_row(d, [](auto p) { edit_h5(p, [](auto& f) { h5::set_attribute(f, "settings/run", "cfl", 2.0); }); });
        },
        {"model.h5", "settings/run", "out of range"}},
+      {"material out of range in the model (the scene's check)",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) {
+             const std::string material = "materials/" + h5::read_strings(f, "materials/names").at(0);
+             h5::set_attribute(f, material, "poisson_ratio", 0.5);
+           });
+         });
+       },
+       {"model.h5", "@poisson_ratio", "got 0.5", "[0, 0.5)"}},
       {"results file handed to solve", [](auto d) { return results_row(d, [](auto) {}).replace(0, 4, "solve"); },
        {"results.h5", "not a Talus talus-model file"}},
       {"restart without a checkpoint", [](auto d) { return model_row(d, [](auto) {}) + " --restart"; },

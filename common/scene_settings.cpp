@@ -1,0 +1,67 @@
+// The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
+#include <algorithm>
+#include <filesystem>
+
+#include "common/scene_reader.hpp"
+
+namespace talus::scene_reader {
+
+void read_scene_table(TableReader& top, Scene& scene) {
+  namespace fs = std::filesystem;
+  const std::string& path = top.file();
+  TableReader scene_table = top.child(top.table("scene"), "scene");
+  scene.name = scene_table.text("name", fs::path(path).stem().string());
+  const std::string geometry = scene_table.text("geometry", fs::path(path).stem().string() + ".geo");
+  scene_table.finish();
+  scene.geometry = (fs::path(path).parent_path() / geometry).lexically_normal().string();
+  if (scene.name.empty() || scene.name.find('/') != std::string::npos)
+    scene_table.fail("name", "expected a non-empty name without '/'");
+}
+
+void read_mesh(TableReader& top, Scene& scene) {
+  TableReader mesh = top.child(top.table("mesh"), "mesh");
+  if (mesh.has("size")) scene.mesh.size = mesh.number("size", std::nullopt, 0, kInf, false);
+  scene.mesh.domain = mesh.text("domain", scene.mesh.domain);
+  mesh.finish();
+}
+
+void read_run(TableReader& top, Scene& scene) {
+  TableReader run = top.child(top.table("run"), "run");
+  RunSettings& rs = scene.run;
+  rs.end_time = run.number("end_time", std::nullopt, 0, kInf, false);
+  rs.cfl = run.number("cfl", rs.cfl, 0, 1, false, true);
+  rs.output_interval = run.number("output_interval", rs.output_interval, 0, kInf, false);
+  rs.gravity = run.vector2("gravity", rs.gravity);
+  rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
+  rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
+  rs.evs = run.boolean("evs", rs.evs);
+  rs.pic_fraction = run.number("pic_fraction", rs.pic_fraction, 0, 1);
+  rs.history_interval = static_cast<int>(run.integer("history_interval", rs.history_interval, 1, 1000000));
+  rs.rest_ratio = run.number("rest_ratio", rs.rest_ratio, 0, 1, true, false);
+  rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);
+  rs.max_steps = run.integer("max_steps", rs.max_steps, 0, std::numeric_limits<long>::max());
+  run.finish();
+}
+
+void read_post(TableReader& top, Scene& scene) {
+  TableReader post = top.child(top.table("post"), "post");
+  PostSettings& ps = scene.post;
+  ps.metrics = post.strings("metrics");
+  static const std::vector<std::string> kMetrics{"runout", "failure_surface", "bishop", "spring_mass", "box_incline"};
+  for (const auto& m : ps.metrics)
+    if (std::find(kMetrics.begin(), kMetrics.end(), m) == kMetrics.end()) {
+      const std::string suggestion = nearest(m, kMetrics);
+      post.fail("metrics", "unknown metric '" + m + "'" +
+                               (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass or box_incline)"
+                                                   : " (did you mean '" + suggestion + "'?)"));
+    }
+  ps.body = post.text("body", scene.bodies.front().name);
+  if (scene.body_index(ps.body) < 0) post.fail("body", "no body named '" + ps.body + "' in [bodies]");
+  ps.sliding_threshold = post.number("sliding_threshold", ps.sliding_threshold, 0, 1, false, true);
+  ps.spring_amplitude = post.number("spring_amplitude", ps.spring_amplitude, 0, kInf, false);
+  ps.spring_omega = post.number("spring_omega", ps.spring_omega, 0, kInf, false);
+  ps.incline_angle = post.number("incline_angle", ps.incline_angle, 0, 90, false, false);
+  post.finish();
+}
+
+}  // namespace talus::scene_reader
