@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/material.hpp"
 #include "common/model_io.hpp"
+#include "common/parameters.hpp"
 
 namespace talus {
 namespace {
@@ -45,6 +47,35 @@ void check_finite(const h5::File& file, const std::string& path, const std::vect
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!std::isfinite(values[i]))
       throw Error(located(file.path(), path, "non-finite value at flat index " + std::to_string(i)));
+}
+
+// One setting as an attribute of `group`: numbers as doubles, flags and counts as integers,
+// vectors as lists of doubles.
+void write_setting(const h5::File& file, const std::string& group, const char* name, double value) {
+  h5::set_attribute(file, group, name, value);
+}
+void write_setting(const h5::File& file, const std::string& group, const char* name, const Eigen::Vector2d& value) {
+  h5::set_attribute(file, group, name, std::vector<double>{value.x(), value.y()});
+}
+template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
+void write_setting(const h5::File& file, const std::string& group, const char* name, Integer value) {
+  h5::set_attribute(file, group, name, static_cast<int64_t>(value));
+}
+
+void read_setting(const h5::File& file, const std::string& group, const char* name, double& value) {
+  value = h5::get_double(file, group, name);
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, Eigen::Vector2d& value) {
+  const auto values = h5::get_doubles(file, group, name);
+  if (values.size() != 2) throw Error(located(file.path(), group + "@" + name, "expected two numbers"));
+  value = {values[0], values[1]};
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, bool& value) {
+  value = h5::get_int(file, group, name) != 0;
+}
+template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
+void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {
+  value = static_cast<Integer>(h5::get_int(file, group, name));
 }
 
 }  // namespace
@@ -88,29 +119,12 @@ void write_metadata(const h5::File& file, const Model& model) {
     const std::string group = "materials/" + m.name;
     h5::create_group(file, group);
     h5::set_attribute(file, group, "model", std::string(model_name(m.model)));
-    h5::set_attribute(file, group, "density", m.density);
-    h5::set_attribute(file, group, "youngs_modulus", m.youngs_modulus);
-    h5::set_attribute(file, group, "poisson_ratio", m.poisson_ratio);
-    h5::set_attribute(file, group, "friction_angle", m.friction_angle);
-    h5::set_attribute(file, group, "cohesion", m.cohesion);
-    h5::set_attribute(file, group, "dilation_angle", m.dilation_angle);
-    h5::set_attribute(file, group, "tensile_strength", m.tensile_strength);
+    for_each_material_parameter(m, [&](const char* name, const auto& value) { write_setting(file, group, name, value); });
   }
 
-  const RunSettings& run = model.run;
   h5::create_group(file, "settings/run");
-  h5::set_attribute(file, "settings/run", "end_time", run.end_time);
-  h5::set_attribute(file, "settings/run", "cfl", run.cfl);
-  h5::set_attribute(file, "settings/run", "output_interval", run.output_interval);
-  h5::set_attribute(file, "settings/run", "gravity", std::vector<double>{run.gravity.x(), run.gravity.y()});
-  h5::set_attribute(file, "settings/run", "gravity_ramp", run.gravity_ramp);
-  h5::set_attribute(file, "settings/run", "damping", run.damping);
-  h5::set_attribute(file, "settings/run", "evs", static_cast<int64_t>(run.evs));
-  h5::set_attribute(file, "settings/run", "pic_fraction", run.pic_fraction);
-  h5::set_attribute(file, "settings/run", "history_interval", static_cast<int64_t>(run.history_interval));
-  h5::set_attribute(file, "settings/run", "rest_ratio", run.rest_ratio);
-  h5::set_attribute(file, "settings/run", "rest_window", run.rest_window);
-  h5::set_attribute(file, "settings/run", "max_steps", static_cast<int64_t>(run.max_steps));
+  for_each_run_setting(model.run,
+                       [&](const char* name, const auto& value) { write_setting(file, "settings/run", name, value); });
 
   h5::create_group(file, "settings/contact");
   h5::set_attribute(file, "settings/contact", "enabled", static_cast<int64_t>(model.contact.enabled));
@@ -164,13 +178,7 @@ void read_metadata(const h5::File& file, Model& model) {
     if (kind == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
     else if (kind == "linear_elastic") m.model = MaterialModel::LinearElastic;
     else throw Error(located(file.path(), group + "@model", "unknown material model '" + kind + "'"));
-    m.density = h5::get_double(file, group, "density");
-    m.youngs_modulus = h5::get_double(file, group, "youngs_modulus");
-    m.poisson_ratio = h5::get_double(file, group, "poisson_ratio");
-    m.friction_angle = h5::get_double(file, group, "friction_angle");
-    m.cohesion = h5::get_double(file, group, "cohesion");
-    m.dilation_angle = h5::get_double(file, group, "dilation_angle");
-    m.tensile_strength = h5::get_double(file, group, "tensile_strength");
+    for_each_material_parameter(m, [&](const char* key, auto& value) { read_setting(file, group, key, value); });
     check_material(m, file.path(), group + "@");
     model.materials.push_back(m);
   }
@@ -179,20 +187,7 @@ void read_metadata(const h5::File& file, Model& model) {
       throw Error(located(file.path(), "bodies/" + body.name + "@material", "material index out of range"));
 
   RunSettings& run = model.run;
-  run.end_time = h5::get_double(file, "settings/run", "end_time");
-  run.cfl = h5::get_double(file, "settings/run", "cfl");
-  run.output_interval = h5::get_double(file, "settings/run", "output_interval");
-  const auto gravity = h5::get_doubles(file, "settings/run", "gravity");
-  if (gravity.size() != 2) throw Error(located(file.path(), "settings/run@gravity", "expected two numbers"));
-  run.gravity = {gravity[0], gravity[1]};
-  run.gravity_ramp = h5::get_double(file, "settings/run", "gravity_ramp");
-  run.damping = h5::get_double(file, "settings/run", "damping");
-  run.evs = h5::get_int(file, "settings/run", "evs") != 0;
-  run.pic_fraction = h5::get_double(file, "settings/run", "pic_fraction");
-  run.history_interval = static_cast<int>(h5::get_int(file, "settings/run", "history_interval"));
-  run.rest_ratio = h5::get_double(file, "settings/run", "rest_ratio");
-  run.rest_window = h5::get_double(file, "settings/run", "rest_window");
-  run.max_steps = h5::get_int(file, "settings/run", "max_steps");
+  for_each_run_setting(run, [&](const char* name, auto& value) { read_setting(file, "settings/run", name, value); });
   if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
       !(run.pic_fraction >= 0 && run.pic_fraction <= 1) || !(run.gravity_ramp >= 0) ||
       !std::isfinite(run.gravity.norm()) || run.history_interval < 1 || !std::isfinite(run.end_time) ||

@@ -8,6 +8,7 @@
 #include "common/fingerprint.hpp"
 #include "common/h5.hpp"
 #include "common/model_io.hpp"
+#include "common/parameters.hpp"
 #include "solver/particle_io.hpp"
 
 namespace talus::solver {
@@ -19,6 +20,13 @@ int64_t stored(const Fingerprint& f) {
   int64_t out = 0;
   std::memcpy(&out, &value, sizeof out);
   return out;
+}
+
+// A setting's value: numbers and flags as they are, vectors component by component.
+void add_setting(Fingerprint& f, const Eigen::Vector2d& value) { f.add(value.x()).add(value.y()); }
+template <class T>
+void add_setting(Fingerprint& f, const T& value) {
+  f.add(value);
 }
 
 // A name with its length, so that consecutive names cannot run into each other.
@@ -45,35 +53,19 @@ std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& mod
   Fingerprint bodies;
   for (const auto& body : model.bodies) add_name(bodies, body.name).add(body.material).add(body.fixed);
   sections.emplace_back("bodies", stored(bodies));
-  for (const auto& m : model.materials)
-    sections.emplace_back("materials." + m.name, stored(Fingerprint()
-                                                            .add(static_cast<int>(m.model))
-                                                            .add(m.density)
-                                                            .add(m.youngs_modulus)
-                                                            .add(m.poisson_ratio)
-                                                            .add(m.friction_angle)
-                                                            .add(m.cohesion)
-                                                            .add(m.dilation_angle)
-                                                            .add(m.tensile_strength)));
+  for (const auto& m : model.materials) {
+    Fingerprint material;
+    material.add(static_cast<int>(m.model));
+    for_each_material_parameter(m, [&](const char*, const auto& value) { add_setting(material, value); });
+    sections.emplace_back("materials." + m.name, stored(material));
+  }
   Fingerprint contact;
   contact.add(model.contact.enabled).add(model.contact.friction);
   for (const auto& pair : model.contact.pairs) add_name(add_name(contact, pair.body_a), pair.body_b).add(pair.friction);
   sections.emplace_back("contact", stored(contact));
-  const RunSettings& r = model.run;
-  sections.emplace_back("run settings", stored(Fingerprint()
-                                                   .add(r.end_time)
-                                                   .add(r.cfl)
-                                                   .add(r.output_interval)
-                                                   .add(r.gravity.x())
-                                                   .add(r.gravity.y())
-                                                   .add(r.gravity_ramp)
-                                                   .add(r.damping)
-                                                   .add(r.evs)
-                                                   .add(r.pic_fraction)
-                                                   .add(r.history_interval)
-                                                   .add(r.rest_ratio)
-                                                   .add(r.rest_window)
-                                                   .add(r.max_steps)));
+  Fingerprint run;
+  for_each_run_setting(model.run, [&](const char*, const auto& value) { add_setting(run, value); });
+  sections.emplace_back("run settings", stored(run));
   return sections;
 }
 
