@@ -163,7 +163,7 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
       throw Error(located(path, "moving_count", "particles of fixed bodies must come after all the others"));
   }
   sim.particles = std::move(P);
-  compute_stencil(sim.config.mesh, sim.particles, 0, n, sim.scratch.stencil);
+  compute_stencil(sim.config.mesh, sim.particles, 0, n, sim.scratch.stencil, sim.config.threads);
   sim.time = h5::get_double(file, "/", "time");
   sim.steps = static_cast<long>(h5::get_int(file, "/", "steps"));
   if (!std::isfinite(sim.time) || sim.time < 0 || sim.steps < 0)
