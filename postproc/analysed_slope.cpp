@@ -26,13 +26,13 @@ AnalysedBody analysed_body(const Model& model, const std::vector<int32_t>& body_
   return selection;
 }
 
-AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source) {
+AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source, double motion_x) {
   AnalysedSlope slope;
   const Polyline& loop = outer_loop(body.loops);
-  slope.mirror.active = descends_to_left(loop);
+  slope.mirror.active = descends_to_left(loop, motion_x);
   Polyline canonical;
   for (const auto& p : loop) canonical.push_back(slope.mirror.point(p));
-  slope.profile = slope_profile(canonical);
+  slope.profile = slope_profile(canonical, motion_x != 0);
   if (!(slope.profile.height > 0))
     throw Error(located(source.file, (source.scene ? "bodies." : "bodies/") + body.name,
                         source.needs + " a slope, but the ground surface is flat"));
@@ -48,6 +48,7 @@ std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector
 }
 
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil) {
+  if (has_vertical_face(slope.profile.surface)) return std::nullopt;
   std::optional<BishopResult> bishop = bishop_search(slope.profile, soil);
   if (bishop) bishop = mirrored(*bishop, slope.mirror);
   return bishop;

@@ -37,15 +37,19 @@ struct AnalysedSlope {
   SlopeProfile profile;   // canonical frame
 };
 
-// The profile of the body's outer loop. Throws when the ground surface is flat (no slope).
-AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source);
+// The profile of the body's outer loop. A level-topped body (a column) that moved has its face
+// on the side its particles moved to: motion_x is their mean displacement along x (m), 0 when
+// not known or none. Throws when the body has no downhill face (a flat layer, or a level top
+// that did not move).
+AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source, double motion_x = 0);
 
 // The positions of the particles `which` of `all`, taken into the canonical frame.
 std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector2d>& all,
                                                  const std::vector<std::size_t>& which, const Mirror& mirror);
 
 // Bishop's critical circle of the slope (bishop_search on the canonical profile), its centre and
-// its entry (uphill) and exit back in the scene's frame (mirrored). Empty when none is admissible.
+// its entry (uphill) and exit back in the scene's frame (mirrored). Empty when none is admissible,
+// and for a surface with a vertical face, which a method of slices cannot treat.
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil);
 
 }  // namespace talus::postproc

@@ -71,7 +71,9 @@ struct Metrics {
 void slope_metrics(const Results& results, const AnalysedBody& body, const std::string& file, Metrics& m) {
   const PostSettings& post = results.metadata.post;
   const BodyInfo& info = results.metadata.bodies[body.index];
-  const AnalysedSlope slope = analysed_slope(info, {file});
+  double motion_x = 0;  // which way a level-topped body (a column) ran out
+  for (std::size_t p : body.particles) motion_x += results.position.back()[p].x() - results.initial_position[p].x();
+  const AnalysedSlope slope = analysed_slope(info, {file}, motion_x / static_cast<double>(body.particles.size()));
   m.mirror = slope.mirror;
   m.profile = slope.profile;
   const SlopeProfile& profile = *m.profile;
@@ -180,6 +182,7 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
   }
   if (m.runout) {
     json.key("runout_distance_m").value(m.runout->runout_distance);
+    json.key("final_height_m").value(m.runout->final_height);
     json.key("crest_retreat_m").value(m.runout->crest_retreat);
     json.key("travel_angle_deg").value(m.runout->travel_angle_deg);
     json.key("deposit_found").value(m.runout->deposit_found);
