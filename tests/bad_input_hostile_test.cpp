@@ -5,6 +5,8 @@
 
 #include <filesystem>
 
+#include "common/h5.hpp"
+#include "solver/solve_observers.hpp"
 #include "support/bad_input_table.hpp"
 #include "support/test_support.hpp"
 
@@ -23,6 +25,18 @@ using testing::write_file;
 std::string geo_row(const fs::path& dir, const std::string& geo) {
   write_file(dir / "evil.geo", geo);
   return scene_change(dir, "block.geo", "evil.geo");
+}
+
+// The base scene meshed by talus, its model.h5 changed by `change`, handed to `talus solve`.
+std::string meshed_model_row(const fs::path& dir, const std::function<void(const h5::File&)>& change,
+                             const std::string& options = "") {
+  const auto meshed = testing::run_talus(testing::scene_row(dir, testing::kScene) + " --out " + (dir / "m").string());
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  const std::string model = (dir / "m" / "model.h5").string();
+  h5::File file = h5::File::open_write(model);
+  change(file);
+  file.close();
+  return "solve " + model + " " + options;
 }
 
 std::vector<Row> rows() {
@@ -71,6 +85,18 @@ std::vector<Row> rows() {
          return geo_row(d, kGeo);
        },
        {"evil.geo.opt:1:", "'System'"}},
+      // Intervals so small that the run would write frames or checkpoints without end.
+      {"output interval far below the end time",
+       [](auto d) { return scene_change(d, "output_interval = 0.005", "output_interval = 1e-12"); },
+       {"block.toml", "run.output_interval", "got 1e-12 s", "frames over run.end_time = 0.01 s", "at most 100000"}},
+      {"output interval far below the end time in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) { h5::set_attribute(f, "settings/run", "output_interval", 1e-300); });
+       },
+       {"model.h5", "settings/run@output_interval", "frames over run.end_time"}},
+      {"checkpoint interval far below the end time",
+       [](auto d) { return meshed_model_row(d, [](auto&) {}, "--checkpoint-interval 1e-300"); },
+       {"--checkpoint-interval", "got 1e-300 s", "checkpoints over run.end_time = 0.01 s", "at most 100000"}},
   };
 }
 
@@ -95,6 +121,15 @@ TEST(BadInputHostile, CommentsStringsAndIncludesInsideTheFolderAreAllowed) {
   const auto result = testing::run_talus(geo_row(d, geo) + " --out " + dir.file("out"));
   EXPECT_EQ(result.status, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir.file("out/model.h5")));
+}
+
+TEST(BadInputHostile, TheNextOutputTimeIsComputedNotSummed) {
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0.3, 0.1, 1e-12), 0.4);
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0.35, 0.1, 0), 0.4);
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0, 0.25, 0), 0.25);
+  // Summed from 0, this would take 1e17 additions, and 1 + 1e-17 == 1 would never get beyond.
+  EXPECT_GT(solver::next_multiple_after(1.0, 1e-17, 0), 1.0);
+  EXPECT_GT(solver::next_multiple_after(1e6, 1e-300, 0), 1e6);
 }
 
 }  // namespace
