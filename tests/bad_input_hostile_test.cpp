@@ -97,6 +97,12 @@ std::vector<Row> rows() {
       {"checkpoint interval far below the end time",
        [](auto d) { return meshed_model_row(d, [](auto&) {}, "--checkpoint-interval 1e-300"); },
        {"--checkpoint-interval", "got 1e-300 s", "checkpoints over run.end_time = 0.01 s", "at most 100000"}},
+      // Command lines.
+      {"far more threads than the machine has",
+       [](auto d) { return meshed_model_row(d, [](auto&) {}, "--threads 1000000"); },
+       {"--threads", "got '1000000'", "at most", "hardware threads"}},
+      {"threads with trailing text", [](auto d) { return meshed_model_row(d, [](auto&) {}, "--threads 4x"); },
+       {"--threads", "expected a positive integer", "'4x'"}},
   };
 }
 
