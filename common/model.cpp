@@ -195,6 +195,8 @@ void read_metadata(const h5::File& file, Model& model) {
       !(run.damping >= 0 && run.damping < 1) || !(run.rest_ratio >= 0 && run.rest_ratio < 1) ||
       !(run.rest_window > 0) || run.max_steps < 0)
     throw Error(located(file.path(), "settings/run", "run settings out of range"));
+  if (const std::string problem = output_interval_problem(run); !problem.empty())
+    throw Error(located(file.path(), "settings/run@output_interval", problem));
 
   model.contact.enabled = h5::get_int(file, "settings/contact", "enabled") != 0;
   model.contact.friction = h5::get_double(file, "settings/contact", "friction");

@@ -1,6 +1,7 @@
 // The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include "common/scene_reader.hpp"
 
@@ -41,6 +42,7 @@ void read_run(TableReader& top, Scene& scene) {
   rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);
   rs.max_steps = run.integer("max_steps", rs.max_steps, 0, std::numeric_limits<long>::max());
   run.finish();
+  if (const std::string problem = output_interval_problem(rs); !problem.empty()) run.fail("output_interval", problem);
 }
 
 void read_post(TableReader& top, Scene& scene) {
@@ -65,3 +67,16 @@ void read_post(TableReader& top, Scene& scene) {
 }
 
 }  // namespace talus::scene_reader
+
+namespace talus {
+
+std::string output_interval_problem(const RunSettings& run) {
+  const double frames = run.end_time / run.output_interval;
+  if (!(frames > kMaxFrames)) return "";
+  std::ostringstream text;
+  text << "got " << run.output_interval << " s: " << frames << " frames over run.end_time = " << run.end_time
+       << " s, at most " << kMaxFrames << " (raise run.output_interval)";
+  return text.str();
+}
+
+}  // namespace talus

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "preproc/geo_guard.hpp"
 #include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
@@ -122,6 +123,7 @@ SizeEstimate estimate_size(const Scene& scene) {
   SizeEstimate estimate;
   std::ifstream probe(scene.geometry);
   if (!probe) return estimate;  // the meshing reports the missing file
+  check_geo_program(scene.geometry);  // before gmsh parses (and runs) the .geo
   try {
     GmshSession reader;
     gmsh::open(scene.geometry);

@@ -176,6 +176,8 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
   loop.rest_since = h5::get_double(file, kLoopGroup, "rest_since");
   loop.budget = h5::get_double(file, kLoopGroup, "budget");
   loop.budget_limit = h5::get_double(file, kLoopGroup, "budget_limit");
+  if (!std::isfinite(loop.next_output) || !(loop.next_output > sim.time) || !(loop.next_checkpoint > sim.time))
+    throw Error(located(path, "loop@next_output, loop@next_checkpoint", "not ahead of the checkpoint's time"));
   results.frames = static_cast<long>(h5::get_int(file, kLoopGroup, "results_frames"));
   results.history_rows = static_cast<long>(h5::get_int(file, kLoopGroup, "results_history_rows"));
 }

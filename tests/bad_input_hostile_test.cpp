@@ -1,0 +1,142 @@
+// Hostile input through the talus binary: inputs written to make talus do harm (run commands,
+// write files outside its folders) or never finish. One table, checked like the bad-input
+// table: exit status 1, a message naming the file and the item, nothing left behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/h5.hpp"
+#include "solver/solve_observers.hpp"
+#include "support/bad_input_table.hpp"
+#include "support/test_support.hpp"
+
+namespace talus {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::kGeo;
+using testing::replaced;
+using testing::Row;
+using testing::scene_change;
+using testing::ScratchDir;
+using testing::write_file;
+
+// The block of the base scene, with `geo` for its .geo (as evil.geo beside the scene).
+std::string geo_row(const fs::path& dir, const std::string& geo) {
+  write_file(dir / "evil.geo", geo);
+  return scene_change(dir, "block.geo", "evil.geo");
+}
+
+// The base scene meshed by talus, its model.h5 changed by `change`, handed to `talus solve`.
+std::string meshed_model_row(const fs::path& dir, const std::function<void(const h5::File&)>& change,
+                             const std::string& options = "") {
+  const auto meshed = testing::run_talus(testing::scene_row(dir, testing::kScene) + " --out " + (dir / "m").string());
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  const std::string model = (dir / "m" / "model.h5").string();
+  h5::File file = h5::File::open_write(model);
+  change(file);
+  file.close();
+  return "solve " + model + " " + options;
+}
+
+std::vector<Row> rows() {
+  return {
+      // .geo files are programs: gmsh runs them as it parses them.
+      {"System in a .geo", [](auto d) { return geo_row(d, std::string(kGeo) + "System \"touch ran\";\n"); },
+       {"evil.geo:11:", "statement 'System' is not allowed in a Talus .geo", "shell command", "docs/scenes.md"}},
+      {"SystemCall in a .geo", [](auto d) { return geo_row(d, "lc = 1;\nSystemCall 'touch ran';\n"); },
+       {"evil.geo:2:", "'SystemCall'"}},
+      {"Printf to a file",
+       [](auto d) { return geo_row(d, "lc = 1;\n/* a comment */ Printf(\"lc = %g\", lc) >> \"/tmp/leak\";\n"); },
+       {"evil.geo:2:", "'Printf(...) >>'", "writes a file"}},
+      {"Save in a .geo", [](auto d) { return geo_row(d, std::string(kGeo) + "Mesh 2;\nSave \"copy.msh\";\n"); },
+       {"evil.geo:12:", "'Save'", "writes a file"}},
+      {"Exit in a .geo", [](auto d) { return geo_row(d, "Exit;\n"); }, {"evil.geo:1:", "'Exit'", "ends the process"}},
+      {"General option in a .geo", [](auto d) { return geo_row(d, "General.SaveOptions = 1;\n"); },
+       {"evil.geo:1:", "'General.SaveOptions'", "only Mesh.* and Geometry.* options"}},
+      {"Merge of another file", [](auto d) { return geo_row(d, "Merge \"/etc/passwd\";\n"); },
+       {"evil.geo:1:", "'Merge'", "reads another file"}},
+      {"refused statement in an included file",
+       [](auto d) {
+         write_file(d / "parts" / "inner.geo", "// nothing yet\n\nSleep 1e9;\n");
+         return geo_row(d, "Include \"parts/inner.geo\";\n");
+       },
+       {"inner.geo:3:", "'Sleep'"}},
+      {"Include reaching outside the folder",
+       [](auto d) {
+         write_file(d / "block.geo", kGeo);
+         write_file(d / "scene" / "evil.geo", "Include \"../block.geo\";\n");
+         return "mesh " + write_file(d / "scene.toml", replaced(testing::kScene, "block.geo", "scene/evil.geo"));
+       },
+       {"evil.geo:1:", "Include \"../block.geo\"", "outside the .geo's folder"}},
+      {"Include loop",
+       [](auto d) {
+         write_file(d / "again.geo", "Include \"evil.geo\";\n");
+         return geo_row(d, "lc = 1;\nInclude \"again.geo\";\n");
+       },
+       {"Include loop", "evil.geo -> ", "again.geo -> "}},
+      {"Include of a computed name", [](auto d) { return geo_row(d, "Include StrCat(\"ev\", \"il.geo\");\n"); },
+       {"evil.geo:1:", "'Include'", "one plain string"}},
+      {"Include of a missing file", [](auto d) { return geo_row(d, "\n\nInclude \"nowhere.geo\";\n"); },
+       {"evil.geo:3:", "nowhere.geo", "no such file"}},
+      {"System in the .geo.opt gmsh reads after the .geo",
+       [](auto d) {
+         write_file(d / "evil.geo.opt", "System \"touch ran\";\n");
+         return geo_row(d, kGeo);
+       },
+       {"evil.geo.opt:1:", "'System'"}},
+      // Intervals so small that the run would write frames or checkpoints without end.
+      {"output interval far below the end time",
+       [](auto d) { return scene_change(d, "output_interval = 0.005", "output_interval = 1e-12"); },
+       {"block.toml", "run.output_interval", "got 1e-12 s", "frames over run.end_time = 0.01 s", "at most 100000"}},
+      {"output interval far below the end time in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) { h5::set_attribute(f, "settings/run", "output_interval", 1e-300); });
+       },
+       {"model.h5", "settings/run@output_interval", "frames over run.end_time"}},
+      {"checkpoint interval far below the end time",
+       [](auto d) { return meshed_model_row(d, [](auto&) {}, "--checkpoint-interval 1e-300"); },
+       {"--checkpoint-interval", "got 1e-300 s", "checkpoints over run.end_time = 0.01 s", "at most 100000"}},
+      // Command lines.
+      {"far more threads than the machine has",
+       [](auto d) { return meshed_model_row(d, [](auto&) {}, "--threads 1000000"); },
+       {"--threads", "got '1000000'", "at most", "hardware threads"}},
+      {"threads with trailing text", [](auto d) { return meshed_model_row(d, [](auto&) {}, "--threads 4x"); },
+       {"--threads", "expected a positive integer", "'4x'"}},
+  };
+}
+
+TEST(BadInputHostile, EveryRowStopsWithOneClearMessageAndLeavesNothing) { testing::expect_rows_fail_cleanly(rows()); }
+
+TEST(BadInputHostile, ARefusedGeoRunsNothing) {
+  ScratchDir dir("hostile-geo");
+  const std::string marker = dir.file("ran");
+  const auto result = testing::run_talus(
+      geo_row(dir.path(), std::string(kGeo) + "SystemCall \"touch " + marker + "\";\n") + " --out " + dir.file("out"));
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_FALSE(fs::exists(marker)) << "the .geo's command ran";
+}
+
+TEST(BadInputHostile, CommentsStringsAndIncludesInsideTheFolderAreAllowed) {
+  ScratchDir dir("hostile-geo-allowed");
+  const fs::path d = dir.path();
+  write_file(d / "parts" / "block_body.geo", kGeo);
+  const std::string geo =
+      "// System \"touch ran\"; is only a comment\n/* Save \"x\"; Exit; */\n"
+      "Mesh.Algorithm = 6;\nGeometry.Tolerance = 1e-8;\nPrintf(\"Print Merge Exit: %g\", 1);\nInclude \"parts/block_body.geo\";\n";
+  const auto result = testing::run_talus(geo_row(d, geo) + " --out " + dir.file("out"));
+  EXPECT_EQ(result.status, 0) << result.output;
+  EXPECT_TRUE(fs::exists(dir.file("out/model.h5")));
+}
+
+TEST(BadInputHostile, TheNextOutputTimeIsComputedNotSummed) {
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0.3, 0.1, 1e-12), 0.4);
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0.35, 0.1, 0), 0.4);
+  EXPECT_DOUBLE_EQ(solver::next_multiple_after(0, 0.25, 0), 0.25);
+  // Summed from 0, this would take 1e17 additions, and 1 + 1e-17 == 1 would never get beyond.
+  EXPECT_GT(solver::next_multiple_after(1.0, 1e-17, 0), 1.0);
+  EXPECT_GT(solver::next_multiple_after(1e6, 1e-300, 0), 1e6);
+}
+
+}  // namespace
+}  // namespace talus
