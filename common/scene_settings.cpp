@@ -1,11 +1,40 @@
 // The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
 #include "common/scene_reader.hpp"
 
 namespace talus::scene_reader {
+namespace {
+
+// scene.name is the output folder's name (out/NAME/): one plain path component.
+std::string folder_name_problem(const std::string& name) {
+  const std::string expected = "expected a folder name of 1 to 128 characters, without '/', '\\' or control "
+                               "characters, and not '.' or '..' (it names the output folder out/NAME/)";
+  if (name.empty() || name.size() > 128 || name == "." || name == "..") return expected;
+  for (unsigned char c : name)
+    if (c < 0x20 || c == 0x7f || c == '/' || c == '\\') return expected;
+  return "";
+}
+
+// `text` for a message: control characters as \xNN, at most 80 characters.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text.substr(0, 80)) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  return text.size() > 80 ? out + "... (" + std::to_string(text.size()) + " characters)" : out;
+}
+
+}  // namespace
 
 void read_scene_table(TableReader& top, Scene& scene) {
   namespace fs = std::filesystem;
@@ -15,8 +44,12 @@ void read_scene_table(TableReader& top, Scene& scene) {
   const std::string geometry = scene_table.text("geometry", fs::path(path).stem().string() + ".geo");
   scene_table.finish();
   scene.geometry = (fs::path(path).parent_path() / geometry).lexically_normal().string();
-  if (scene.name.empty() || scene.name.find('/') != std::string::npos)
-    scene_table.fail("name", "expected a non-empty name without '/'");
+  // A device or a pipe would be read without end (by the stamps' hash, then by gmsh).
+  std::error_code error;
+  if (fs::exists(scene.geometry, error) && !fs::is_regular_file(scene.geometry, error))
+    scene_table.fail("geometry", "'" + printable(geometry) + "' is not a regular file (a device, pipe or folder)");
+  if (const std::string problem = folder_name_problem(scene.name); !problem.empty())
+    scene_table.fail("name", problem + ", got '" + printable(scene.name) + "'");
 }
 
 void read_mesh(TableReader& top, Scene& scene) {

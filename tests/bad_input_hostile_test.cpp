@@ -85,6 +85,34 @@ std::vector<Row> rows() {
          return geo_row(d, kGeo);
        },
        {"evil.geo.opt:1:", "'System'"}},
+      // scene.name names the output folder out/NAME/: it must not lead anywhere else.
+      {"scene name '..'", [](auto d) { return scene_change(d, "[scene]\n", "[scene]\nname = \"..\"\n"); },
+       {"block.toml", "scene.name", "not '.' or '..'", "got '..'"}},
+      {"scene name '.'", [](auto d) { return scene_change(d, "[scene]\n", "[scene]\nname = \".\"\n"); },
+       {"block.toml", "scene.name", "got '.'"}},
+      {"scene name with a NUL byte",
+       [](auto d) { return scene_change(d, "[scene]\n", "[scene]\nname = \"ok\\u0000/../../x\"\n"); },
+       {"block.toml", "scene.name", "control characters", "got 'ok\\x00/../../x'"}},
+      {"scene name with a newline",
+       [](auto d) { return scene_change(d, "[scene]\n", "[scene]\nname = \"a\\nb\"\n"); },
+       {"block.toml", "scene.name", "got 'a\\x0ab'"}},
+      {"scene name of 10000 characters",
+       [](auto d) { return scene_change(d, "[scene]\n", "[scene]\nname = \"" + std::string(10000, 'n') + "\"\n"); },
+       {"block.toml", "scene.name", "1 to 128 characters", "(10000 characters)"}},
+      {"scene name '..' by --set", [](auto d) { return testing::scene_row(d, testing::kScene, "--set scene.name=.."); },
+       {"scene.name"}},
+      // A geometry that is not a regular file would be read without end.
+      {"geometry /dev/zero", [](auto d) { return scene_change(d, "\"block.geo\"", "\"/dev/zero\""); },
+       {"block.toml", "scene.geometry", "'/dev/zero' is not a regular file"}},
+      {"geometry /dev/zero through talus run",
+       [](auto d) { return "run" + scene_change(d, "\"block.geo\"", "\"/dev/zero\"").substr(4); },
+       {"block.toml", "scene.geometry", "not a regular file"}},
+      {"geometry a folder",
+       [](auto d) {
+         fs::create_directories(d / "folder.geo");
+         return scene_change(d, "\"block.geo\"", "\"folder.geo\"");
+       },
+       {"block.toml", "scene.geometry", "'folder.geo' is not a regular file"}},
       // Intervals so small that the run would write frames or checkpoints without end.
       {"output interval far below the end time",
        [](auto d) { return scene_change(d, "output_interval = 0.005", "output_interval = 1e-12"); },
