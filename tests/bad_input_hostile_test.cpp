@@ -101,6 +101,12 @@ std::vector<Row> rows() {
        {"block.toml", "scene.name", "1 to 128 characters", "(10000 characters)"}},
       {"scene name '..' by --set", [](auto d) { return testing::scene_row(d, testing::kScene, "--set scene.name=.."); },
        {"scene.name"}},
+      // A .geo that makes no mesh, or no body (Exit itself is refused above).
+      {"a .geo that makes nothing", [](auto d) { return geo_row(d, "lc = 1;\n"); },
+       {"evil.geo", "physical surface \"domain\"", "its named physical groups are: (none)"}},
+      {"a .geo whose body group is empty",
+       [](auto d) { return geo_row(d, testing::replaced(kGeo, "Physical Surface(\"block\") = {1};", "")); },
+       {"evil.geo", "\"block\"", "named by bodies.block", "is not a physical group"}},
       // A geometry that is not a regular file would be read without end.
       {"geometry /dev/zero", [](auto d) { return scene_change(d, "\"block.geo\"", "\"/dev/zero\""); },
        {"block.toml", "scene.geometry", "'/dev/zero' is not a regular file"}},
@@ -155,6 +161,27 @@ TEST(BadInputHostile, CommentsStringsAndIncludesInsideTheFolderAreAllowed) {
   const auto result = testing::run_talus(geo_row(d, geo) + " --out " + dir.file("out"));
   EXPECT_EQ(result.status, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir.file("out/model.h5")));
+}
+
+// A mesh that fails leaves the folder's earlier files, but says so and forgets the folder's
+// stamps: nothing there passes for this run's output.
+TEST(BadInputHostile, AFailedMeshSaysTheFolderHoldsAnEarlierRun) {
+  ScratchDir dir("hostile-failed-mesh");
+  const fs::path d = dir.path();
+  const std::string out = " --quiet --out " + dir.file("out");
+  const std::string good = testing::scene_row(d, testing::kScene).substr(5);  // "mesh " dropped
+  write_file(d / "evil.geo", "lc = 1;\n");
+  const std::string empty = write_file(d / "evil.toml", replaced(testing::kScene, "block.geo", "evil.geo"));
+  for (const std::string command : {"mesh ", "run "}) {
+    SCOPED_TRACE(command);
+    const auto earlier = testing::run_talus(command + good + out);
+    ASSERT_EQ(earlier.status, 0) << earlier.output;
+    const auto failed = testing::run_talus(command + empty + out);
+    EXPECT_EQ(failed.status, 1) << failed.output;
+    EXPECT_NE(failed.output.find("(nothing was written: model.h5"), std::string::npos) << failed.output;
+    EXPECT_NE(failed.output.find("are from an earlier run, not from this one"), std::string::npos) << failed.output;
+    EXPECT_FALSE(fs::exists(dir.file("out/.talus-stamps"))) << "the earlier run's stamps were kept";
+  }
 }
 
 TEST(BadInputHostile, TheNextOutputTimeIsComputedNotSummed) {

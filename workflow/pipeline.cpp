@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "common/error.hpp"
 #include "common/model.hpp"
 #include "postproc/postproc.hpp"
 #include "preproc/preproc.hpp"
@@ -22,11 +23,26 @@ std::string folder_beside(const std::optional<std::string>& out, const std::stri
   return folder;
 }
 
+// A failed mesh says which files of the folder an earlier run left (they are not this scene's)
+// and forgets the folder's stamps, so that nothing there passes for this run's output.
+Error mesh_failed(const Error& error, const std::string& folder) {
+  stamps::forget(folder);
+  std::string earlier;
+  for (const char* name : {"model.h5", "results.h5", "metrics.json", "checkpoint.h5"})
+    if (fs::exists(fs::path(folder) / name)) earlier += (earlier.empty() ? "" : ", ") + std::string(name);
+  if (earlier.empty()) return error;
+  return Error(std::string(error.what()) + "\n(nothing was written: " + earlier + " in " + folder +
+               " are from an earlier run, not from this one)");
+}
+
 std::string mesh(const Scene& scene, const std::string& folder, bool quiet, std::ostream& log) {
   preproc::MeshReport report;
-  const Model model = preproc::build_model(scene, &report);
   const std::string path = (fs::path(folder) / "model.h5").string();
-  write_model(path, model);
+  try {
+    write_model(path, preproc::build_model(scene, &report));
+  } catch (const Error& error) {
+    throw mesh_failed(error, folder);
+  }
   if (!quiet) {
     preproc::print_report(report, log);
     log << "wrote " << path << std::endl;
