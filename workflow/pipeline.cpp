@@ -8,6 +8,7 @@
 #include "postproc/postproc.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/solver.hpp"
+#include "workflow/folder_lock.hpp"
 #include "workflow/stamps.hpp"
 
 namespace fs = std::filesystem;
@@ -83,18 +84,21 @@ std::string output_folder(const std::optional<std::string>& out, const Scene& sc
 std::string mesh_stage(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
   const Scene scene = load_scene(scene_path, options.overrides);
   const std::string folder = output_folder(options.out, scene);
+  const FolderLock lock(folder);
   stamps::forget(folder);
   return mesh(scene, folder, options.quiet, log);
 }
 
 void solve_stage(const std::string& model_path, const StageOptions& options, std::ostream& log) {
   const std::string folder = folder_beside(options.out, model_path);
+  const FolderLock lock(folder);
   stamps::forget(folder);
   solve(model_path, folder, options, log);
 }
 
 int post_stage(const std::string& results_path, const StageOptions& options, std::ostream& log) {
   const std::string folder = folder_beside(options.out, results_path);
+  const FolderLock lock(folder);
   stamps::forget(folder);
   return post(results_path, folder, options.quiet, log);
 }
@@ -102,6 +106,7 @@ int post_stage(const std::string& results_path, const StageOptions& options, std
 int run_pipeline(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
   const Scene scene = load_scene(scene_path, options.overrides);
   const std::string folder = output_folder(options.out, scene);
+  const FolderLock lock(folder);
   const fs::path out(folder);
   const uint64_t mesh_inputs =
       stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
