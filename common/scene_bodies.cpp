@@ -16,7 +16,7 @@ void read_bodies(TableReader& top, Scene& scene) {
     b.group = r.text("group", name);
     b.material = r.text("material", std::nullopt);
     if (scene.material_index(b.material) < 0)
-      r.fail("material", "no material named '" + b.material + "' in [materials]");
+      r.fail("material", "no material named '" + echoed(b.material) + "' in [materials]");
     b.particles_per_cell = static_cast<int>(r.integer("particles_per_cell", b.particles_per_cell, 1, 10));
     if (b.particles_per_cell != 1 && b.particles_per_cell != 3 && b.particles_per_cell != 4 &&
         b.particles_per_cell != 6 && b.particles_per_cell != 10)
@@ -49,7 +49,7 @@ void read_boundaries(TableReader& top, Scene& scene) {
     const std::string type = r.text("type", std::nullopt);
     if (type == "fixed") b.type = BoundaryType::Fixed;
     else if (type == "roller") b.type = BoundaryType::Roller;
-    else r.fail("type", "unknown boundary type '" + type + "' (expected fixed or roller)");
+    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed or roller)");
     if (r.has("normal")) {
       Eigen::Vector2d n = r.vector2("normal", std::nullopt);
       if (n.norm() == 0) r.fail("normal", "expected a non-zero vector");

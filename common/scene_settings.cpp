@@ -1,6 +1,5 @@
 // The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -19,21 +18,6 @@ std::string folder_name_problem(const std::string& name) {
   return "";
 }
 
-// `text` for a message: control characters as \xNN, at most 80 characters.
-std::string printable(const std::string& text) {
-  std::string out;
-  for (unsigned char c : text.substr(0, 80)) {
-    if (c >= 0x20 && c != 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      out += hex;
-    }
-  }
-  return text.size() > 80 ? out + "... (" + std::to_string(text.size()) + " characters)" : out;
-}
-
 }  // namespace
 
 void read_scene_table(TableReader& top, Scene& scene) {
@@ -47,9 +31,9 @@ void read_scene_table(TableReader& top, Scene& scene) {
   // A device or a pipe would be read without end (by the stamps' hash, then by gmsh).
   std::error_code error;
   if (fs::exists(scene.geometry, error) && !fs::is_regular_file(scene.geometry, error))
-    scene_table.fail("geometry", "'" + printable(geometry) + "' is not a regular file (a device, pipe or folder)");
+    scene_table.fail("geometry", "'" + echoed(geometry) + "' is not a regular file (a device, pipe or folder)");
   if (const std::string problem = folder_name_problem(scene.name); !problem.empty())
-    scene_table.fail("name", problem + ", got '" + printable(scene.name) + "'");
+    scene_table.fail("name", problem + ", got '" + echoed(scene.name) + "'");
 }
 
 void read_mesh(TableReader& top, Scene& scene) {
@@ -86,7 +70,7 @@ void read_post(TableReader& top, Scene& scene) {
   for (const auto& m : ps.metrics)
     if (std::find(kMetrics.begin(), kMetrics.end(), m) == kMetrics.end()) {
       const std::string suggestion = nearest(m, kMetrics);
-      post.fail("metrics", "unknown metric '" + m + "'" +
+      post.fail("metrics", "unknown metric '" + echoed(m) + "'" +
                                (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass or box_incline)"
                                                    : " (did you mean '" + suggestion + "'?)"));
     }

@@ -131,6 +131,23 @@ std::vector<Row> rows() {
       {"checkpoint interval far below the end time",
        [](auto d) { return meshed_model_row(d, [](auto&) {}, "--checkpoint-interval 1e-300"); },
        {"--checkpoint-interval", "got 1e-300 s", "checkpoints over run.end_time = 0.01 s", "at most 100000"}},
+      // Messages name the file and do not echo input without end (issue 17, item 12).
+      {"clockwise element in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           h5::Dims dims;
+           std::vector<int32_t> t = h5::read_ints(f, "mesh/triangles", &dims);
+           std::swap(t[1], t[2]);
+           h5::write(f, "mesh/triangles", t, dims);
+         });
+       },
+       {"/m/model.h5: element 0 is degenerate or clockwise"}},
+      {"unknown key of a megabyte",
+       [](auto d) { return scene_change(d, "[mesh]\n", "[mesh]\n" + std::string(1 << 20, 'k') + " = 1\n"); },
+       {"block.toml", "mesh.kkkk", "... (1048581 characters): unknown key"}},
+      {"--set of 100000 characters",
+       [](auto d) { return testing::scene_row(d, testing::kScene, "--set run." + std::string(100000, 'k') + "=1"); },
+       {"--set run.kkkk", "... (100004 characters): no such scene key"}},
       // Command lines.
       {"far more threads than the machine has",
        [](auto d) { return meshed_model_row(d, [](auto&) {}, "--threads 1000000"); },

@@ -1,6 +1,7 @@
-// The output folder: one folder admits one writer (issue 17, item 3): a second talus aimed at a
-// folder another talus is writing into stops at once with exit status 1, names the holder's pid
-// and command, and leaves the first one's files alone.
+// The output folder: --out naming something that cannot be a folder is bad input (exit status 1,
+// a plain message; issue 17, item 12), and one folder admits one writer (item 3): a second talus
+// aimed at a folder another talus is writing into stops at once with exit status 1, names the
+// holder's pid and command, and leaves the first one's files alone.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -25,6 +26,30 @@ std::string text_of(const fs::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+TEST(OutFolder, ANameThatCannotBeAFolderIsBadInput) {
+  ScratchDir dir("out-folder");
+  const fs::path d = dir.path();
+  const std::string scene = testing::scene_row(d, testing::kScene);
+  const std::string file = testing::write_file(d / "a_file", "not a folder");
+  const std::vector<std::pair<std::string, std::vector<std::string>>> rows = {
+      {file, {file, "cannot use this as the output folder"}},
+      {file + "/sub", {file + "/sub", "cannot use this as the output folder"}},
+      {"''", {"--out: expected a folder, got an empty name"}},
+      {"/dev/null", {"/dev/null", "cannot use this as the output folder"}},
+      {"/proc/self", {"/proc/self/.talus.lock", "cannot create the folder's lock file", "is the folder writable?"}},
+  };
+  for (const auto& [out, words] : rows) {
+    SCOPED_TRACE(out);
+    for (const auto& command : std::vector<std::string>{scene, "run" + scene.substr(4)}) {
+      const auto result = run_talus(command + " --out " + out);
+      EXPECT_EQ(result.status, 1) << result.output;
+      EXPECT_EQ(result.output.find("internal error"), std::string::npos) << result.output;
+      for (const auto& word : words) EXPECT_NE(result.output.find(word), std::string::npos) << result.output;
+    }
+  }
+  EXPECT_EQ(text_of(file), "not a folder");
 }
 
 TEST(FolderLock, EveryStageRefusesAFolderAnotherTalusHolds) {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <sstream>
+#include <system_error>
 
 #include "common/error.hpp"
 #include "common/model.hpp"
@@ -16,12 +17,21 @@ namespace fs = std::filesystem;
 namespace talus::workflow {
 namespace {
 
+// `folder` created (with its parents) if missing; a path that cannot be a folder is bad input.
+std::string created_folder(const std::string& folder) {
+  if (folder.empty()) throw Error("--out: expected a folder, got an empty name");
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (!error && !fs::is_directory(folder, error)) error = std::make_error_code(std::errc::not_a_directory);
+  if (error) throw Error(located(folder, "", "cannot use this as the output folder: " + error.message()));
+  return folder;
+}
+
 // The folder of a stage that reads a file: `out`, else the file's own folder; created.
 std::string folder_beside(const std::optional<std::string>& out, const std::string& input) {
   std::string folder = out ? *out : fs::path(input).parent_path().string();
-  if (folder.empty()) folder = ".";
-  fs::create_directories(folder);
-  return folder;
+  if (folder.empty() && !out) folder = ".";
+  return created_folder(folder);
 }
 
 // A failed mesh says which files of the folder an earlier run left (they are not this scene's)
@@ -60,8 +70,15 @@ void solve(const std::string& model_path, const std::string& folder, const Stage
   solve_options.checkpoint_interval = options.checkpoint_interval;
   solve_options.restart = options.restart;
   std::ostringstream discarded;
-  const solver::SolveSummary summary =
-      solver::solve(model, solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
+  solver::SolveSummary summary;
+  try {
+    summary = solver::solve(model, solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
+  } catch (const Error& error) {
+    // The solver's checks of the mesh and particles say "model: ...": name the file.
+    const std::string message = error.what();
+    if (message.rfind("model: ", 0) != 0) throw;
+    throw Error(located(model_path, "", message.substr(7)));
+  }
   if (!options.quiet) {
     solver::print_summary(summary, log);
     log << "wrote " << (fs::path(folder) / "results.h5").string() << " and results.xdmf\n";
@@ -76,9 +93,7 @@ int post(const std::string& results_path, const std::string& folder, bool quiet,
 }  // namespace
 
 std::string output_folder(const std::optional<std::string>& out, const Scene& scene) {
-  const fs::path folder = out ? fs::path(*out) : fs::path("out") / scene.name;
-  fs::create_directories(folder);
-  return folder.string();
+  return created_folder(out ? *out : (fs::path("out") / scene.name).string());
 }
 
 std::string mesh_stage(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
