@@ -7,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "common/error.hpp"
+#include "postproc/figure_script.hpp"
 #include "solver/solver.hpp"
 #include "workflow/fos.hpp"
 #include "workflow/pipeline.hpp"
@@ -142,6 +143,9 @@ int main(int argc, char** argv) {
               << "\n";
     return 1;
   } catch (const solver::Interrupted& e) {
+    std::cerr << "talus: " << e.what() << "\n";
+    return 128 + e.signal;
+  } catch (const postproc::FiguresInterrupted& e) {
     std::cerr << "talus: " << e.what() << "\n";
     return 128 + e.signal;
   } catch (const std::exception& e) {

@@ -54,5 +54,27 @@ TEST_F(PostFaults, FailedFiguresAreOneMessageWithAndWithoutQuiet) {
   }
 }
 
+TEST_F(PostFaults, SigtermStopsTheFiguresScriptWithTalus) {
+  const std::string pid_file = dir_->file("script.pid");
+  fs::remove(pid_file);
+  write_file(dir_->path() / "fake" / "matplotlib" / "__init__.py",
+             "import os, time\nopen('" + pid_file + "', 'w').write(str(os.getpid()))\ntime.sleep(60)\n");
+  const std::string script = "( PYTHONPATH=" + dir_->file("fake") + " " + TALUS_BINARY + " post " +
+                             dir_->file("out/results.h5") + " -q & pid=$!; for i in $(seq 1 3000); do [ -s '" +
+                             pid_file + "' ] && break; sleep 0.01; done; kill -TERM $pid; wait $pid; echo status=$?; " +
+                             "sleep 0.2; kill -0 $(cat '" + pid_file + "') 2>/dev/null && echo script=running " +
+                             "|| echo script=stopped )";
+  const auto result = run_shell(script);
+  EXPECT_NE(result.output.find("status=143"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("script=stopped"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("talus: interrupted by SIGTERM while figures.py ran: the script was stopped with talus; "
+                               "what was written before the figures is kept"),
+            std::string::npos)
+      << result.output;
+  EXPECT_TRUE(fs::exists(dir_->file("out/metrics.json")));
+  // Whatever the test's outcome, no script is left running.
+  run_shell("kill -KILL $(cat '" + pid_file + "') 2>/dev/null");
+}
+
 }  // namespace
 }  // namespace talus
