@@ -11,9 +11,15 @@
 namespace talus::h5 {
 namespace {
 
-// HDF5 prints its own error stack by default; Talus reports errors itself.
+// HDF5 prints its own error stack by default; Talus reports errors itself. And HDF5's exit
+// handler would close again a file whose close failed (a full disk): it crashed in
+// H5F__close_cb after Talus had reported the error. Every file Talus writes is closed, or
+// failed and removed, before the process ends, so the handler is not installed.
 struct SilenceHdf5 {
-  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  SilenceHdf5() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const SilenceHdf5 silence_hdf5;
 
@@ -163,11 +169,14 @@ File File::open_write(const std::string& path) {
   return file;
 }
 
-void File::flush() const { H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL); }
+void File::flush() const {
+  if (H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL) < 0)
+    throw Error(located(path_, "", "cannot write HDF5 file (disk full, or over the file size limit?)"));
+}
 
 void File::close() {
   if (!handle_.valid()) return;
-  if (H5Fclose(handle_.release()) < 0) throw Error(located(path_, "", "cannot close HDF5 file (disk full?)"));
+  if (H5Fclose(handle_.release()) < 0) throw Error(located(path_, "", "cannot write HDF5 file (disk full, or over the file size limit?)"));
 }
 
 void write_atomically(const std::string& path, const std::function<void(const File&)>& fill) {
