@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <limits>
 #include <numeric>
+#include <type_traits>
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
@@ -81,6 +82,7 @@ std::vector<T> read_numbers(const File& file, const std::string& path, Dims* dim
   Handle file_type(H5Dget_type(dataset.id()));
   const H5T_class_t kind = file_type.valid() ? H5Tget_class(file_type.id()) : H5T_NO_CLASS;
   if (kind != H5T_INTEGER && kind != H5T_FLOAT) fail(file, path, "expected numbers");
+  if (std::is_integral_v<T> && kind != H5T_INTEGER) fail(file, path, "expected integers, got floating-point numbers");
   const hsize_t count = checked_count(file, path, local, dataset.id());
   std::vector<T> data(count);
   if (count > 0 && H5Dread(dataset.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)

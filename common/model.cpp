@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/material.hpp"
+#include "common/model_checks.hpp"
 #include "common/model_io.hpp"
 #include "common/parameters.hpp"
 
@@ -337,6 +338,8 @@ Model read_model(const std::string& path) {
     if (model.element[p] < 0 || model.element[p] >= static_cast<int32_t>(model.triangles.size()))
       throw Error(located(path, "particles/element", "element index out of range for particle " + std::to_string(p)));
   }
+  check_particle_count(file, n);
+  check_model_geometry(model, path);
   return model;
 }
 

@@ -3,6 +3,7 @@
 // table: exit status 1, a message naming the file and the item, nothing left behind.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/h5.hpp"
@@ -37,6 +38,19 @@ std::string meshed_model_row(const fs::path& dir, const std::function<void(const
   change(file);
   file.close();
   return "solve " + model + " " + options;
+}
+
+// The base scene meshed and solved by talus, its results.h5 changed by `change`, handed to
+// `talus post`.
+std::string solved_results_row(const fs::path& dir, const std::function<void(const h5::File&)>& change) {
+  const std::string model = meshed_model_row(dir, [](auto&) {}).substr(6);
+  const auto solved = testing::run_talus("solve " + model + " --quiet");
+  EXPECT_EQ(solved.status, 0) << solved.output;
+  const std::string results = (dir / "m" / "results.h5").string();
+  h5::File file = h5::File::open_write(results);
+  change(file);
+  file.close();
+  return "post " + results;
 }
 
 std::vector<Row> rows() {
@@ -131,6 +145,62 @@ std::vector<Row> rows() {
       {"checkpoint interval far below the end time",
        [](auto d) { return meshed_model_row(d, [](auto&) {}, "--checkpoint-interval 1e-300"); },
        {"--checkpoint-interval", "got 1e-300 s", "checkpoints over run.end_time = 0.01 s", "at most 100000"}},
+      // Model and results data that read well one dataset at a time (issue 17, item 10).
+      {"roller normal [0, 0] in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           h5::write(f, "boundary_conditions/roller_nodes", std::vector<int32_t>{0}, {1});
+           h5::write(f, "boundary_conditions/roller_normals", std::vector<double>{0.0, 0.0}, {1, 2});
+         });
+       },
+       {"model.h5", "boundary_conditions/roller_normals", "row 0 is [0, 0]"}},
+      {"triangle indices as floating-point numbers",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           h5::Dims dims;
+           const std::vector<int32_t> t = h5::read_ints(f, "mesh/triangles", &dims);
+           h5::write(f, "mesh/triangles", std::vector<double>(t.begin(), t.end()), dims);
+         });
+       },
+       {"model.h5", "mesh/triangles", "expected integers, got floating-point numbers"}},
+      {"particle outside its element",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           std::vector<int32_t> element = h5::read_ints(f, "particles/element");
+           const auto triangles = static_cast<int32_t>(h5::shape(f, "mesh/triangles")[0]);
+           element[0] = (element[0] + triangles / 2) % triangles;
+           h5::write(f, "particles/element", element, {element.size()});
+         });
+       },
+       {"model.h5", "particles/element", "particle 0 at (", "is not inside its element"}},
+      {"particles attribute disagreeing with the data",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) { h5::set_attribute(f, "/", "particles", int64_t{7}); });
+       },
+       {"model.h5", "@particles", "says 7 particles", "rows"}},
+      {"frame time NaN in results",
+       [](auto d) {
+         return solved_results_row(d, [](auto& f) {
+           std::vector<double> time = h5::read_doubles(f, "frames/time");
+           time[1] = std::nan("");
+           h5::write(f, "frames/time", time, {time.size()});
+         });
+       },
+       {"results.h5", "frames/time", "frame 1 has a time that is not finite"}},
+      {"frame times going back in results",
+       [](auto d) {
+         return solved_results_row(d, [](auto& f) {
+           std::vector<double> time = h5::read_doubles(f, "frames/time");
+           time.back() = 0.5 * time[1];
+           h5::write(f, "frames/time", time, {time.size()});
+         });
+       },
+       {"results.h5", "frames/time", "is earlier than frame", "must not go back"}},
+      {"particles attribute disagreeing with the results",
+       [](auto d) {
+         return solved_results_row(d, [](auto& f) { h5::set_attribute(f, "/", "particles", int64_t{7}); });
+       },
+       {"results.h5", "@particles", "says 7 particles"}},
       // Messages name the file and do not echo input without end (issue 17, item 12).
       {"clockwise element in a model",
        [](auto d) {
@@ -141,7 +211,7 @@ std::vector<Row> rows() {
            h5::write(f, "mesh/triangles", t, dims);
          });
        },
-       {"/m/model.h5: element 0 is degenerate or clockwise"}},
+       {"/m/model.h5: mesh/triangles: element 0 is degenerate or clockwise"}},
       {"unknown key of a megabyte",
        [](auto d) { return scene_change(d, "[mesh]\n", "[mesh]\n" + std::string(1 << 20, 'k') + " = 1\n"); },
        {"block.toml", "mesh.kkkk", "... (1048581 characters): unknown key"}},
