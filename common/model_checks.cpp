@@ -7,6 +7,30 @@
 
 namespace talus {
 
+std::string run_settings_problem(const RunSettings& run) {
+  struct Check {
+    const char* name;
+    bool ok;
+    const char* expected;
+  };
+  const Check checks[] = {
+      {"end_time", run.end_time > 0 && std::isfinite(run.end_time), "a finite time > 0"},
+      {"cfl", run.cfl > 0 && run.cfl <= 1, "a number in (0, 1]"},
+      {"output_interval", run.output_interval > 0 && std::isfinite(run.output_interval), "a finite time > 0"},
+      {"pic_fraction", run.pic_fraction >= 0 && run.pic_fraction <= 1, "a number in [0, 1]"},
+      {"gravity_ramp", run.gravity_ramp >= 0 && std::isfinite(run.gravity_ramp), "a finite time >= 0"},
+      {"gravity", std::hypot(run.gravity.x(), run.gravity.y()) <= kMaxGravity, "a magnitude of at most 1000 m/s^2"},
+      {"history_interval", run.history_interval >= 1, "an integer >= 1"},
+      {"damping", run.damping >= 0 && run.damping < 1, "a number in [0, 1)"},
+      {"rest_ratio", run.rest_ratio >= 0 && run.rest_ratio < 1, "a number in [0, 1)"},
+      {"rest_window", run.rest_window > 0, "a time > 0"},
+      {"max_steps", run.max_steps >= 0, "an integer >= 0"},
+  };
+  for (const auto& check : checks)
+    if (!check.ok) return std::string("settings/run@") + check.name + ": out of range, expected " + check.expected;
+  return "";
+}
+
 void check_model_geometry(const Model& model, const std::string& path) {
   auto twice_area = [&](const std::array<int32_t, 3>& t) {
     const Eigen::Vector2d a = model.nodes[t[1]] - model.nodes[t[0]], b = model.nodes[t[2]] - model.nodes[t[0]];

@@ -9,6 +9,15 @@
 
 namespace talus {
 
+// Bounds of settings whose extremes pass as finite numbers and fail later: gravity beyond
+// 100 g (its energy overflows), a k0 beyond 10 (no soil; 1e308 gave infinite stresses).
+constexpr double kMaxGravity = 1000.0;  // m/s^2
+constexpr double kMaxK0 = 10.0;
+
+// The first run setting out of range, "settings/run@NAME: expected ..."; empty when all are in
+// range.
+std::string run_settings_problem(const RunSettings& run);
+
 // Every triangle counter-clockwise with a positive area, every roller normal non-zero, every
 // particle inside (or on the edge of) its element. Throws talus::Error naming `path` and the
 // dataset.

@@ -1,4 +1,5 @@
 // The readers of the scene's [bodies.NAME] and [boundaries.NAME] tables.
+#include "common/model_checks.hpp"
 #include "common/scene_reader.hpp"
 
 namespace talus::scene_reader {
@@ -26,7 +27,7 @@ void read_bodies(TableReader& top, Scene& scene) {
     if (const toml::table* stress = r.table("initial_stress")) {
       TableReader s = r.child(stress, r.prefix() + ".initial_stress");
       InitialStress initial;
-      initial.k0 = s.number("k0", std::nullopt, 0, kInf);
+      initial.k0 = s.number("k0", std::nullopt, 0, kMaxK0);
       if (s.has("surface")) initial.surface = s.number("surface", std::nullopt, -kInf, kInf);
       s.finish();
       b.initial_stress = initial;

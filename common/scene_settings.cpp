@@ -1,8 +1,10 @@
 // The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
+#include "common/model_checks.hpp"
 #include "common/scene_reader.hpp"
 
 namespace talus::scene_reader {
@@ -50,6 +52,12 @@ void read_run(TableReader& top, Scene& scene) {
   rs.cfl = run.number("cfl", rs.cfl, 0, 1, false, true);
   rs.output_interval = run.number("output_interval", rs.output_interval, 0, kInf, false);
   rs.gravity = run.vector2("gravity", rs.gravity);
+  if (!(std::hypot(rs.gravity.x(), rs.gravity.y()) <= kMaxGravity)) {
+    std::ostringstream message;
+    message << "a magnitude of " << std::hypot(rs.gravity.x(), rs.gravity.y()) << " m/s^2, expected at most "
+            << kMaxGravity << " (100 g)";
+    run.fail("gravity", message.str());
+  }
   rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
   rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
   rs.evs = run.boolean("evs", rs.evs);

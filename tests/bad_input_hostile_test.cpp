@@ -201,6 +201,23 @@ std::vector<Row> rows() {
          return solved_results_row(d, [](auto& f) { h5::set_attribute(f, "/", "particles", int64_t{7}); });
        },
        {"results.h5", "@particles", "says 7 particles"}},
+      // Values that passed the scene check and failed later (issue 17, item 11).
+      {"gravity 1e308", [](auto d) { return scene_change(d, "gravity = [0.0, -9.81]", "gravity = [0.0, -1e308]"); },
+       {"block.toml", "run.gravity", "a magnitude of 1e+308 m/s^2, expected at most 1000"}},
+      {"gravity 1e308 in a model",
+       [](auto d) {
+         return meshed_model_row(
+             d, [](auto& f) { h5::set_attribute(f, "settings/run", "gravity", std::vector<double>{0.0, -1e308}); });
+       },
+       {"model.h5", "settings/run@gravity", "at most 1000 m/s^2"}},
+      {"k0 1e308",
+       [](auto d) {
+         return scene_change(d, "particles_per_cell = 4\n", "particles_per_cell = 4\ninitial_stress = { k0 = 1e308 }\n");
+       },
+       {"block.toml", "bodies.block.initial_stress.k0", "got 1e+308", "[0, 10]"}},
+      {"Young's modulus 1e308: a time step of 1e-153 s",
+       [](auto d) { return scene_change(d, "youngs_modulus = 1.0e7", "youngs_modulus = 1.0e308"); },
+       {"block.toml", "materials.rock.youngs_modulus", "steps over run.end_time", "set run.max_steps to run anyway"}},
       // Messages name the file and do not echo input without end (issue 17, item 12).
       {"clockwise element in a model",
        [](auto d) {

@@ -17,9 +17,9 @@ namespace fs = std::filesystem;
 using testing::run_shell;
 using testing::ScratchDir;
 
-// `talus ARGS` with files limited to `kilobytes`.
-testing::CommandResult talus_limited(int kilobytes, const std::string& args) {
-  return run_shell("trap '' XFSZ; ulimit -f " + std::to_string(kilobytes) + "; " + TALUS_BINARY + " " + args);
+// `talus ARGS` with files limited to `blocks` of 512 bytes (sh's ulimit -f).
+testing::CommandResult talus_limited(int blocks, const std::string& args) {
+  return run_shell("trap '' XFSZ; ulimit -f " + std::to_string(blocks) + "; " + TALUS_BINARY + " " + args);
 }
 
 void expect_failed_write(const testing::CommandResult& result, const std::string& file) {
@@ -38,12 +38,29 @@ TEST(WriteFaults, AFullDiskStopsEveryStageAndLeavesNoHalfWrittenFile) {
   EXPECT_FALSE(fs::exists(out / "model.h5.tmp"));
 
   ASSERT_EQ(testing::run_talus(scene + " --quiet").status, 0);
-  const auto solved = talus_limited(20, "solve " + (out / "model.h5").string());
+  // 154 kB passes the estimate of results.h5 (110 kB: 4 frames of 344 particles at 80 B) and
+  // stops the writes (the file takes 181 kB).
+  const auto solved = talus_limited(300, "solve " + (out / "model.h5").string());
   expect_failed_write(solved, "results.h5");
   EXPECT_NE(solved.output.find("removed " + (out / "results.h5").string() + " and results.xdmf"), std::string::npos)
       << solved.output;
   EXPECT_FALSE(fs::exists(out / "results.h5"));
   EXPECT_FALSE(fs::exists(out / "results.xdmf"));
+}
+
+TEST(WriteFaults, ResultsThatWouldNotFitAreRefusedBeforeTheSolve) {
+  ScratchDir dir("write-faults-estimate");
+  const fs::path out = dir.path() / "out";
+  const std::string scene =
+      testing::scene_row(dir.path(), testing::replaced(testing::kScene, "output_interval = 0.005", "output_interval = 1e-5"));
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  const auto result = talus_limited(1000, "solve " + (out / "model.h5").string());
+  EXPECT_EQ(result.status, 1) << result.output;
+  for (const char* words : {"model.h5: settings/run@output_interval: results.h5 would take about 0.027",
+                            " frames of 344 particles at 80 B each), more than the file size limit of 0.000512 GB"})
+    EXPECT_NE(result.output.find(words), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("raise run.output_interval"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(out / "results.h5"));
 }
 
 TEST(WriteFaults, ResultsDeletedDuringASolveStopIt) {

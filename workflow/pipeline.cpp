@@ -1,5 +1,9 @@
 #include "workflow/pipeline.hpp"
 
+#include <sys/resource.h>
+#include <sys/statvfs.h>
+
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -61,8 +65,34 @@ std::string mesh(const Scene& scene, const std::string& folder, bool quiet, std:
   return path;
 }
 
+// results.h5 keeps 9 doubles per particle and frame (position, velocity, stress, plastic
+// strain), 80 B with HDF5's overhead; results.xdmf about 3 kB per frame. A run whose results
+// would not fit in the folder's free space, or in the process's file size limit, is refused.
+void check_results_fit(const Model& model, const std::string& model_path, const std::string& folder) {
+  const double frames = std::floor(model.run.end_time / model.run.output_interval) + 2;
+  const double h5_bytes = frames * 80.0 * static_cast<double>(model.particle_count());
+  const double bytes = h5_bytes + frames * 3000.0;
+  struct statvfs disk {};
+  const double free_bytes =
+      statvfs(folder.c_str(), &disk) == 0 ? static_cast<double>(disk.f_bavail) * disk.f_frsize : HUGE_VAL;
+  struct rlimit limit {};
+  const double file_limit = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY
+                                ? static_cast<double>(limit.rlim_cur)
+                                : HUGE_VAL;
+  if (bytes <= free_bytes && h5_bytes <= file_limit) return;
+  std::ostringstream message;
+  message.precision(3);
+  message << "results.h5 would take about " << h5_bytes / 1e9 << " GB (" << static_cast<long long>(frames) << " frames of "
+          << model.particle_count() << " particles at 80 B each), more than ";
+  if (h5_bytes > file_limit) message << "the file size limit of " << file_limit / 1e9 << " GB (ulimit -f)";
+  else message << "the " << free_bytes / 1e9 << " GB free in " << folder;
+  message << ": raise run.output_interval";
+  throw Error(located(model_path, "settings/run@output_interval", message.str()));
+}
+
 void solve(const std::string& model_path, const std::string& folder, const StageOptions& options, std::ostream& log) {
   const Model model = read_model(model_path);
+  check_results_fit(model, model_path, folder);
   solver::SolveOptions solve_options;
   solve_options.out_dir = folder;
   solve_options.progress = !options.quiet;
