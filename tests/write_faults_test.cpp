@@ -48,6 +48,22 @@ TEST(WriteFaults, AFullDiskStopsEveryStageAndLeavesNoHalfWrittenFile) {
   EXPECT_FALSE(fs::exists(out / "results.xdmf"));
 }
 
+TEST(WriteFaults, AFullDiskDuringTheFiguresLeavesNoTruncatedPicture) {
+  ScratchDir dir("write-faults-figures");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(dir.path(), testing::kScene).replace(0, 4, "run");
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  for (const auto& entry : fs::directory_iterator(out))
+    if (entry.path().extension() == ".png") fs::remove(entry.path());
+  const auto result = talus_limited(40, "post " + (out / "results.h5").string() + " -q");  // 20 kB
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find("figures.py: figures failed: exited with status 1: OSError: [Errno 27] File too large"),
+            std::string::npos)
+      << result.output;
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().string().find(".png"), std::string::npos) << "left: " << entry.path();
+}
+
 TEST(WriteFaults, ResultsThatWouldNotFitAreRefusedBeforeTheSolve) {
   ScratchDir dir("write-faults-estimate");
   const fs::path out = dir.path() / "out";
