@@ -7,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "common/error.hpp"
+#include "postproc/figure_script.hpp"
 #include "solver/solver.hpp"
 #include "workflow/fos.hpp"
 #include "workflow/pipeline.hpp"
@@ -134,9 +135,17 @@ int main(int argc, char** argv) {
     if (args.threads > 0) omp_set_num_threads(args.threads);
     return run_command(args);
   } catch (const Error& e) {
-    std::cerr << "talus: error: " << e.what() << "\n";
+    // Messages echo input; whatever slipped through uncut stops at 4000 characters.
+    const std::string message = e.what();
+    std::cerr << "talus: error: " << message.substr(0, 4000)
+              << (message.size() > 4000 ? "... (message cut at 4000 of " + std::to_string(message.size()) + " characters)"
+                                        : "")
+              << "\n";
     return 1;
   } catch (const solver::Interrupted& e) {
+    std::cerr << "talus: " << e.what() << "\n";
+    return 128 + e.signal;
+  } catch (const postproc::FiguresInterrupted& e) {
     std::cerr << "talus: " << e.what() << "\n";
     return 128 + e.signal;
   } catch (const std::exception& e) {

@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/material.hpp"
+#include "common/model_checks.hpp"
 #include "common/model_io.hpp"
 #include "common/parameters.hpp"
 
@@ -188,13 +189,8 @@ void read_metadata(const h5::File& file, Model& model) {
 
   RunSettings& run = model.run;
   for_each_run_setting(run, [&](const char* name, auto& value) { read_setting(file, "settings/run", name, value); });
-  if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
-      !(run.pic_fraction >= 0 && run.pic_fraction <= 1) || !(run.gravity_ramp >= 0) ||
-      !std::isfinite(run.gravity.norm()) || run.history_interval < 1 || !std::isfinite(run.end_time) ||
-      !std::isfinite(run.output_interval) || !std::isfinite(run.gravity_ramp) ||
-      !(run.damping >= 0 && run.damping < 1) || !(run.rest_ratio >= 0 && run.rest_ratio < 1) ||
-      !(run.rest_window > 0) || run.max_steps < 0)
-    throw Error(located(file.path(), "settings/run", "run settings out of range"));
+  if (const std::string problem = run_settings_problem(run); !problem.empty())
+    throw Error(located(file.path(), "", problem));
   if (const std::string problem = output_interval_problem(run); !problem.empty())
     throw Error(located(file.path(), "settings/run@output_interval", problem));
 
@@ -337,6 +333,8 @@ Model read_model(const std::string& path) {
     if (model.element[p] < 0 || model.element[p] >= static_cast<int32_t>(model.triangles.size()))
       throw Error(located(path, "particles/element", "element index out of range for particle " + std::to_string(p)));
   }
+  check_particle_count(file, n);
+  check_model_geometry(model, path);
   return model;
 }
 

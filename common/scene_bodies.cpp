@@ -1,4 +1,5 @@
 // The readers of the scene's [bodies.NAME] and [boundaries.NAME] tables.
+#include "common/model_checks.hpp"
 #include "common/scene_reader.hpp"
 
 namespace talus::scene_reader {
@@ -16,7 +17,7 @@ void read_bodies(TableReader& top, Scene& scene) {
     b.group = r.text("group", name);
     b.material = r.text("material", std::nullopt);
     if (scene.material_index(b.material) < 0)
-      r.fail("material", "no material named '" + b.material + "' in [materials]");
+      r.fail("material", "no material named '" + echoed(b.material) + "' in [materials]");
     b.particles_per_cell = static_cast<int>(r.integer("particles_per_cell", b.particles_per_cell, 1, 10));
     if (b.particles_per_cell != 1 && b.particles_per_cell != 3 && b.particles_per_cell != 4 &&
         b.particles_per_cell != 6 && b.particles_per_cell != 10)
@@ -26,7 +27,7 @@ void read_bodies(TableReader& top, Scene& scene) {
     if (const toml::table* stress = r.table("initial_stress")) {
       TableReader s = r.child(stress, r.prefix() + ".initial_stress");
       InitialStress initial;
-      initial.k0 = s.number("k0", std::nullopt, 0, kInf);
+      initial.k0 = s.number("k0", std::nullopt, 0, kMaxK0);
       if (s.has("surface")) initial.surface = s.number("surface", std::nullopt, -kInf, kInf);
       s.finish();
       b.initial_stress = initial;
@@ -49,7 +50,7 @@ void read_boundaries(TableReader& top, Scene& scene) {
     const std::string type = r.text("type", std::nullopt);
     if (type == "fixed") b.type = BoundaryType::Fixed;
     else if (type == "roller") b.type = BoundaryType::Roller;
-    else r.fail("type", "unknown boundary type '" + type + "' (expected fixed or roller)");
+    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed or roller)");
     if (r.has("normal")) {
       Eigen::Vector2d n = r.vector2("normal", std::nullopt);
       if (n.norm() == 0) r.fail("normal", "expected a non-zero vector");

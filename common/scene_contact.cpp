@@ -17,7 +17,7 @@ void read_contact(TableReader& top, Scene& scene) {
       const std::vector<std::string> names = r.strings("bodies");
       if (names.size() != 2 || names[0] == names[1]) r.fail("bodies", "expected two different body names");
       for (const auto& n : names)
-        if (scene.body_index(n) < 0) r.fail("bodies", "no body named '" + n + "' in [bodies]");
+        if (scene.body_index(n) < 0) r.fail("bodies", "no body named '" + echoed(n) + "' in [bodies]");
       pair.body_a = names[0];
       pair.body_b = names[1];
       pair.friction = r.number("friction", std::nullopt, 0, kInf);

@@ -13,7 +13,7 @@ Material read_material(TableReader& top, const std::string& name, const toml::ta
   const std::string model = r.text("model", std::nullopt);
   if (model == "linear_elastic") m.model = MaterialModel::LinearElastic;
   else if (model == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
-  else r.fail("model", "unknown material model '" + model + "' (expected linear_elastic or mohr_coulomb)");
+  else r.fail("model", "unknown material model '" + echoed(model) + "' (expected linear_elastic or mohr_coulomb)");
   // Each parameter checked as it is read (common/material.hpp), so the first bad one is reported.
   auto parameter = [&](double Material::*field, const std::string& key, std::optional<double> fallback) {
     m.*field = r.any_number(key, fallback);

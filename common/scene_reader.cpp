@@ -1,3 +1,4 @@
+#include <cstdio>
 #include "common/scene_reader.hpp"
 
 #include <algorithm>
@@ -153,12 +154,13 @@ void TableReader::finish() const {
     const std::string name(key.str());
     if (std::find(known_.begin(), known_.end(), name) != known_.end()) continue;
     const std::string path = prefix_.empty() ? name : prefix_ + "." + name;
-    const std::string suggestion = nearest(name, known_);
+    const std::string suggestion = name.size() > 200 ? "" : nearest(name, known_);
     std::string message = "unknown key";
     if (!suggestion.empty()) message += " (did you mean '" + (prefix_.empty() ? "" : prefix_ + ".") + suggestion + "'?)";
     else if (!known_.empty()) message += " (valid keys here: " + join(known_) + ")";
-    if (overridden_.count(path)) throw Error(located(file_, "--set " + path, "no such scene key: " + message));
-    throw Error(located(file_, path, message));
+    if (overridden_.count(path))
+      throw Error(located(file_, "--set " + echoed(path), "no such scene key: " + message));
+    throw Error(located(file_, echoed(path), message));
   }
 }
 
@@ -170,7 +172,7 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
                     std::set<std::string>& overridden) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0 || assignment[equals - 1] == '.')
-    throw Error(located(file, "--set " + assignment, "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
+    throw Error(located(file, "--set " + echoed(assignment), "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
   const std::string key = assignment.substr(0, equals);
   const std::string value_text = assignment.substr(equals + 1);
 
@@ -185,7 +187,7 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   std::vector<std::string> parts;
   std::stringstream stream(key);
   for (std::string part; std::getline(stream, part, '.');) {
-    if (part.empty()) throw Error(located(file, "--set " + assignment, "empty part in the dotted key"));
+    if (part.empty()) throw Error(located(file, "--set " + echoed(assignment), "empty part in the dotted key"));
     parts.push_back(part);
   }
   toml::table* table = &root;
@@ -195,12 +197,27 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
     toml::node* node = table->get(parts[i]);
     if (!node) node = &table->insert_or_assign(parts[i], toml::table{}).first->second;
     table = node->as_table();
-    if (!table) throw Error(located(file, "--set " + assignment, "'" + path + "' is not a table"));
+    if (!table) throw Error(located(file, "--set " + echoed(assignment), "'" + echoed(path) + "' is not a table"));
   }
   const toml::node* value = parsed.get("value");
-  if (!value) throw Error(located(file, "--set " + assignment, "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
+  if (!value)
+    throw Error(located(file, "--set " + echoed(assignment), "expected KEY=VALUE, e.g. --set run.end_time=2.0"));
   table->insert_or_assign(parts.back(), *value);
   overridden.insert(key);
+}
+
+std::string echoed(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text.substr(0, 80)) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  return text.size() > 80 ? out + "... (" + std::to_string(text.size()) + " characters)" : out;
 }
 
 // Body and material names become HDF5 group names (bodies/NAME, materials/NAME) beside the
@@ -213,7 +230,7 @@ void check_name(const std::string& name, const std::string& item, const std::str
   if (!plain)
     throw Error(located(file, item,
                         "expected a name of letters, digits, '_' or '-' (at most 64, and not 'names'), got '" +
-                            name + "'"));
+                            echoed(name) + "'"));
 }
 
 }  // namespace talus::scene_reader

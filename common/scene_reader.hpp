@@ -72,6 +72,10 @@ class TableReader {
   std::vector<std::string> known_;
 };
 
+// Input quoted in a message: control characters as \xNN, cut after 80 characters with the
+// length said (a 1 MB key is not echoed as a 1 MB message).
+std::string echoed(const std::string& text);
+
 // Applies one --set "dotted.key=value" to the parsed file and records the key in `overridden`.
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file,
                     std::set<std::string>& overridden);

@@ -1,11 +1,26 @@
 // The readers of the scene's settings tables: [scene], [mesh], [run] and [post].
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
+#include "common/model_checks.hpp"
 #include "common/scene_reader.hpp"
 
 namespace talus::scene_reader {
+namespace {
+
+// scene.name is the output folder's name (out/NAME/): one plain path component.
+std::string folder_name_problem(const std::string& name) {
+  const std::string expected = "expected a folder name of 1 to 128 characters, without '/', '\\' or control "
+                               "characters, and not '.' or '..' (it names the output folder out/NAME/)";
+  if (name.empty() || name.size() > 128 || name == "." || name == "..") return expected;
+  for (unsigned char c : name)
+    if (c < 0x20 || c == 0x7f || c == '/' || c == '\\') return expected;
+  return "";
+}
+
+}  // namespace
 
 void read_scene_table(TableReader& top, Scene& scene) {
   namespace fs = std::filesystem;
@@ -15,8 +30,12 @@ void read_scene_table(TableReader& top, Scene& scene) {
   const std::string geometry = scene_table.text("geometry", fs::path(path).stem().string() + ".geo");
   scene_table.finish();
   scene.geometry = (fs::path(path).parent_path() / geometry).lexically_normal().string();
-  if (scene.name.empty() || scene.name.find('/') != std::string::npos)
-    scene_table.fail("name", "expected a non-empty name without '/'");
+  // A device or a pipe would be read without end (by the stamps' hash, then by gmsh).
+  std::error_code error;
+  if (fs::exists(scene.geometry, error) && !fs::is_regular_file(scene.geometry, error))
+    scene_table.fail("geometry", "'" + echoed(geometry) + "' is not a regular file (a device, pipe or folder)");
+  if (const std::string problem = folder_name_problem(scene.name); !problem.empty())
+    scene_table.fail("name", problem + ", got '" + echoed(scene.name) + "'");
 }
 
 void read_mesh(TableReader& top, Scene& scene) {
@@ -33,6 +52,12 @@ void read_run(TableReader& top, Scene& scene) {
   rs.cfl = run.number("cfl", rs.cfl, 0, 1, false, true);
   rs.output_interval = run.number("output_interval", rs.output_interval, 0, kInf, false);
   rs.gravity = run.vector2("gravity", rs.gravity);
+  if (!(std::hypot(rs.gravity.x(), rs.gravity.y()) <= kMaxGravity)) {
+    std::ostringstream message;
+    message << "a magnitude of " << std::hypot(rs.gravity.x(), rs.gravity.y()) << " m/s^2, expected at most "
+            << kMaxGravity << " (100 g)";
+    run.fail("gravity", message.str());
+  }
   rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
   rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
   rs.evs = run.boolean("evs", rs.evs);
@@ -53,7 +78,7 @@ void read_post(TableReader& top, Scene& scene) {
   for (const auto& m : ps.metrics)
     if (std::find(kMetrics.begin(), kMetrics.end(), m) == kMetrics.end()) {
       const std::string suggestion = nearest(m, kMetrics);
-      post.fail("metrics", "unknown metric '" + m + "'" +
+      post.fail("metrics", "unknown metric '" + echoed(m) + "'" +
                                (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass or box_incline)"
                                                    : " (did you mean '" + suggestion + "'?)"));
     }

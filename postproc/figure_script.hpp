@@ -2,6 +2,7 @@
 // where this build finds them, and the one runner of them both.
 #pragma once
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,10 +14,19 @@ std::string figure_script(const std::string& name);
 // The figures script this build uses by default: figure_script("figures.py").
 std::string figures_script();
 
-// Runs `python script arguments...`; the script's own lines (what it wrote, or its traceback)
-// go to `log`, indented. Returns true when it exited with status 0; otherwise, or when the
-// script is missing (an empty path included), the log says why and it returns false.
-bool run_figure_script(const std::string& script, const std::vector<std::string>& arguments, std::ostream& log,
+// SIGINT or SIGTERM reached talus while a figure script ran: the script was stopped too.
+struct FiguresInterrupted : std::runtime_error {
+  FiguresInterrupted(int signal_number, const std::string& message)
+      : std::runtime_error(message), signal(signal_number) {}
+  int signal;
+};
+
+// Runs `python script arguments...`. When it exits with status 0, the script's own lines go to
+// `log`, indented; otherwise, or when the script is missing (an empty path included), throws
+// talus::Error naming the script, its status and its last line (of a traceback, the exception).
+// The script runs without a shell and ends with talus: SIGINT or SIGTERM sent to talus while it
+// runs is passed on to it, then FiguresInterrupted is thrown.
+void run_figure_script(const std::string& script, const std::vector<std::string>& arguments, std::ostream& log,
                        const std::string& python = "/usr/bin/python3");
 
 }  // namespace talus::postproc

@@ -314,7 +314,8 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
 
   if (!options.figures) return 0;
   const std::string script = options.figures_script.empty() ? figures_script() : options.figures_script;
-  return run_figure_script(script, {"--results", results_path, "--out", out_dir}, log, options.python) ? 0 : 1;
+  run_figure_script(script, {"--results", results_path, "--out", out_dir}, log, options.python);
+  return 0;
 }
 
 }  // namespace talus::postproc

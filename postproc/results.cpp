@@ -4,6 +4,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/model_checks.hpp"
 #include "common/model_io.hpp"
 
 namespace talus::postproc {
@@ -75,6 +76,8 @@ Results read_results(const std::string& path) {
   results.frame_time = h5::read_doubles(file, "frames/time", &time_dims);
   const std::size_t f = results.frame_time.size();
   if (f == 0) throw Error(located(path, "frames/time", "no frames"));
+  check_frame_times(results.frame_time, path);
+  check_particle_count(file, n);
   results.position = as_points(read_frames(file, "frames/position", f, n, 2), f, n);
   results.velocity = as_points(read_frames(file, "frames/velocity", f, n, 2), f, n);
   if (h5::exists(file, "frames/plastic_strain")) {

@@ -15,6 +15,7 @@
 #include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"
 #include "postproc/runout.hpp"
+#include "workflow/folder_lock.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/strength_reduction.hpp"
 #include "workflow/fos_report.hpp"
@@ -95,6 +96,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
 
   const Scene scene = load_scene(options.scene_path, options.overrides);
   const fs::path out = output_folder(options.out, scene);
+  const FolderLock lock(out.string());
   const Model model = preproc::build_model(scene);
   const postproc::Source source{scene.path, true, "fos needs"};
   const postproc::AnalysedBody body = postproc::analysed_body(model, model.body, source);
@@ -157,7 +159,8 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   print_result(log, report);
   log << "wrote " << (out / "fos.json").string() << std::endl;
   if (!slip) return 0;
-  return postproc::run_figure_script(postproc::figure_script("fos_figure.py"), {"--out", out.string()}, log) ? 0 : 1;
+  postproc::run_figure_script(postproc::figure_script("fos_figure.py"), {"--out", out.string()}, log);
+  return 0;
 }
 
 }  // namespace talus::workflow
