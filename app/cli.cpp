@@ -1,7 +1,9 @@
 #include "app/cli.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <limits>
+#include <thread>
 
 #include "common/error.hpp"
 
@@ -41,12 +43,21 @@ Arguments parse(int argc, char** argv) {
     else if (name == "--out") args.out = value_of(i, name);
     else if (name == "--threads") {
       const std::string text = value_of(i, name);
+      std::size_t used = 0;
       try {
-        args.threads = std::stoi(text);
+        args.threads = std::stoi(text, &used);
       } catch (...) {
         args.threads = -1;
       }
-      if (args.threads < 1) throw Error("--threads: expected a positive integer, got '" + text + "'");
+      if (args.threads < 1 || used != text.size())
+        throw Error("--threads: expected a positive integer, got '" + text + "'");
+      // Each thread holds a grid buffer of its own: far more threads than cores only costs memory.
+      const int cores = static_cast<int>(std::thread::hardware_concurrency());
+      const int most = cores > 0 ? std::min(4 * cores, kMaxThreads) : kMaxThreads;
+      if (args.threads > most)
+        throw Error("--threads: got '" + text + "', at most " + std::to_string(most) + " (4 x the " +
+                    std::to_string(cores) + " hardware threads of this machine, never above " +
+                    std::to_string(kMaxThreads) + ")");
     } else if (name == "--checkpoint-interval") {
       args.checkpoint_interval = number_of(i, name, 0, false, std::numeric_limits<double>::infinity(),
                                            "a time >= 0 in seconds of simulated time");

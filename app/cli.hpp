@@ -7,6 +7,9 @@
 
 namespace talus::cli {
 
+// --threads is at most 4 x the machine's hardware threads, and never above this.
+constexpr int kMaxThreads = 1024;
+
 struct Arguments {
   std::string command;
   std::vector<std::string> positional;

@@ -17,6 +17,7 @@
 //                0.5 g (sin 30 - mu cos 30) t^2 at t = 0.25, 0.5, 0.75, 1 s; `error` is the
 //                largest of the four (the one plotted and used for the recommendation),
 //                `error_at_1s` the last.
+// The settings and the measuring of one run are in accuracy_support.cpp (accuracy.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "accuracy.hpp"
 #include "bench_support.hpp"
 #include "common/error.hpp"
 #include "common/scene.hpp"
@@ -40,171 +42,9 @@
 namespace {
 
 using namespace talus;
+using namespace talus::bench::accuracy;
 using bench::fixed;
 using bench::general;
-
-struct Setting {
-  double size = 0;  // m
-  int particles_per_cell = 0;
-  double cfl = 0;
-};
-
-// One run of one setting; `failure` is non-empty when the run threw.
-struct Row {
-  Setting setting;
-  std::size_t elements = 0, particles = 0;
-  long steps = 0;
-  double loop_seconds = 0, wall_seconds = 0;
-  double error = 0, error_at_1s = 0;  // analytical scenes
-  double runout = 0, circle_x = 0, circle_y = 0, circle_r = 0;  // slope
-  bool has_circle = false;
-  std::string failure;
-  double particle_updates() const { return static_cast<double>(particles) * steps; }
-};
-
-struct Options {
-  bool quick = false, smallest = false, plots = true;
-  int threads = 1;
-  std::string out = "out/bench";
-  std::vector<std::string> scenes = {"spring_mass", "box_incline", "slope"};
-};
-
-std::vector<Setting> grid(const std::vector<double>& sizes, const std::vector<int>& counts,
-                          const std::vector<double>& cfls) {
-  std::vector<Setting> settings;
-  for (double h : sizes)
-    for (int n : counts)
-      for (double cfl : cfls) settings.push_back({h, n, cfl});
-  return settings;
-}
-
-// The settings of each scene, cheapest first in each mode.
-std::vector<Setting> settings_for(const std::string& scene, const Options& options) {
-  if (scene == "spring_mass") {
-    if (options.smallest) return {{0.1, 1, 1.0}};
-    if (options.quick) return grid({0.1, 0.05}, {1, 4, 10}, {0.5, 1.0});
-    return grid({0.1, 0.05, 0.025}, {1, 3, 4, 6, 10}, {0.25, 0.5, 1.0});
-  }
-  if (scene == "box_incline") {
-    if (options.smallest) return {{0.05, 1, 1.0}};
-    if (options.quick) return grid({0.05, 0.025}, {1, 4, 10}, {0.5, 1.0});
-    return grid({0.05, 0.035, 0.025}, {1, 3, 4, 6, 10}, {0.25, 0.5, 1.0});
-  }
-  // The slope at the scene's own 4 particles per cell and CFL 0.5, refined.
-  if (options.quick) return grid({1.0, 0.7, 0.5}, {4}, {0.5});
-  return grid({1.0, 0.7, 0.5, 0.35, 0.25}, {4}, {0.5});
-}
-
-std::string describe(const Setting& s) {
-  char text[96];
-  std::snprintf(text, sizeof text, "size %.4g m, %d per cell, CFL %.2g", s.size, s.particles_per_cell, s.cfl);
-  return text;
-}
-
-// Runs one setting of a scene and measures it.
-Row measure(const std::string& scene, const Setting& setting, const Options& options) {
-  Row row;
-  row.setting = setting;
-  const std::string file = bench::scene_path(scene);
-  std::vector<std::string> overrides = bench::particles_per_cell_overrides(file, setting.particles_per_cell);
-  char value[64];
-  std::snprintf(value, sizeof value, "mesh.size=%.17g", setting.size);
-  overrides.push_back(value);
-  std::snprintf(value, sizeof value, "run.cfl=%.17g", setting.cfl);
-  overrides.push_back(value);
-  bench::Scratch scratch("accuracy");
-  try {
-    const bench::TimedRun run = bench::run_scene(file, overrides, scratch.path().string(), options.threads);
-    row.elements = run.elements;
-    row.particles = run.summary.particles;
-    row.steps = run.summary.steps;
-    row.loop_seconds = run.summary.loop_seconds;
-    row.wall_seconds = run.wall_seconds;
-    const Scene parsed = load_scene(file, overrides);
-    const PostSettings& post = parsed.post;
-    const std::string results = scratch.file("results.h5");
-    if (scene == "spring_mass") {
-      const bench::BodyTrack track = bench::track_body(results, post.body);
-      std::vector<double> height;
-      for (const auto& c : track.centre) height.push_back(c.y());
-      row.error = postproc::spring_mass_check(track.time, height, track.initial.y(), post.spring_amplitude,
-                                              post.spring_omega)
-                      .max_error_over_amplitude;
-      row.error_at_1s = row.error;
-    } else if (scene == "box_incline") {
-      const bench::BodyTrack track = bench::track_body(results, post.body);
-      std::vector<Eigen::Vector2d> displacement;
-      for (const auto& c : track.centre) displacement.push_back(c - track.initial);
-      std::string other;
-      for (const Body& b : parsed.bodies)
-        if (b.name != post.body) other = b.name;
-      const auto check = postproc::box_incline_check(track.time, displacement, post.incline_angle,
-                                                     parsed.run.gravity.norm(),
-                                                     pair_friction(parsed.contact, post.body, other));
-      if (check.relative_error.size() != 4 || !check.relative_error.back())
-        throw Error("box_incline: the run does not reach the four check times");
-      row.error = 0;
-      for (const auto& e : check.relative_error) row.error = std::max(row.error, e.value());
-      row.error_at_1s = check.relative_error.back().value();
-    } else {
-      postproc::PostOptions post_options;
-      post_options.figures = false;
-      std::ostringstream log;
-      postproc::run_post(results, scratch.path().string(), log, post_options);
-      std::ifstream in(scratch.file("metrics.json"));
-      std::stringstream json;
-      json << in.rdbuf();
-      const auto runout = bench::json_number(json.str(), "runout_distance_m");
-      if (!runout) throw Error("slope: no runout in metrics.json (no deposit found)");
-      row.runout = *runout;
-      const auto x = bench::json_number(json.str(), "xc_m", "slip_circle");
-      const auto y = bench::json_number(json.str(), "yc_m", "slip_circle");
-      const auto r = bench::json_number(json.str(), "r_m", "slip_circle");
-      row.has_circle = x && y && r;
-      if (row.has_circle) row.circle_x = *x, row.circle_y = *y, row.circle_r = *r;
-    }
-  } catch (const solver::Interrupted&) {
-    throw;  // Ctrl-C or SIGTERM stops the sweep, not just this run
-  } catch (const std::exception& error) {
-    row.failure = error.what();
-  }
-  return row;
-}
-
-std::vector<double> column(const std::vector<Row>& rows, const std::function<double(const Row&)>& get) {
-  std::vector<double> values;
-  for (const Row& row : rows) values.push_back(get(row));
-  return values;
-}
-
-// The columns every CSV starts with (mesh_size_m, particles_per_cell, cfl, elements, particles,
-// steps), then `rest`.
-std::vector<std::vector<double>> with_setting_columns(const std::vector<Row>& done,
-                                                      std::vector<std::vector<double>> rest) {
-  std::vector<std::vector<double>> columns = {
-      column(done, [](const Row& r) { return r.setting.size; }),
-      column(done, [](const Row& r) { return double(r.setting.particles_per_cell); }),
-      column(done, [](const Row& r) { return r.setting.cfl; }),
-      column(done, [](const Row& r) { return double(r.elements); }),
-      column(done, [](const Row& r) { return double(r.particles); }),
-      column(done, [](const Row& r) { return double(r.steps); })};
-  columns.insert(columns.end(), rest.begin(), rest.end());
-  return columns;
-}
-
-// Least-squares slope of log(difference) against log(size): the observed order of convergence
-// towards the finest run. Needs at least two non-zero differences.
-std::optional<double> observed_order(const std::vector<double>& size, const std::vector<double>& difference) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
-  for (std::size_t i = 0; i < size.size(); ++i)
-    if (difference[i] > 0) {
-      const double x = std::log(size[i]), y = std::log(difference[i]);
-      sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
-    }
-  if (n < 2 || !(n * sxx - sx * sx > 0)) return std::nullopt;
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 // CSV, Markdown section and recommendation of an analytical scene.
 std::string report_analytical(const std::string& scene, std::vector<Row> rows, const Options& options) {

@@ -93,6 +93,22 @@ BodyTrack track_body(const std::string& results_file, const std::string& body) {
   return track;
 }
 
+postproc::SpringMassCheck spring_mass_check(const std::string& results_file, const std::string& body,
+                                            double amplitude, double omega) {
+  const BodyTrack track = track_body(results_file, body);
+  std::vector<double> height;
+  for (const auto& c : track.centre) height.push_back(c.y());
+  return postproc::spring_mass_check(track.time, height, track.initial.y(), amplitude, omega);
+}
+
+postproc::BoxInclineCheck box_incline_check(const std::string& results_file, const std::string& body,
+                                            double angle_deg, double gravity, double friction) {
+  const BodyTrack track = track_body(results_file, body);
+  std::vector<Eigen::Vector2d> displacement;
+  for (const auto& c : track.centre) displacement.push_back(c - track.initial);
+  return postproc::box_incline_check(track.time, displacement, angle_deg, gravity, friction);
+}
+
 std::optional<double> json_number(const std::string& json, const std::string& key, const std::string& after) {
   std::size_t from = 0;
   if (!after.empty()) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/model.hpp"
+#include "postproc/validation.hpp"
 #include "solver/solver.hpp"
 
 namespace talus::bench {
@@ -56,6 +57,14 @@ struct BodyTrack {
   Eigen::Vector2d initial{0, 0};
 };
 BodyTrack track_body(const std::string& results_file, const std::string& body);
+
+// talus post's checks against the analytical solutions (postproc/validation.hpp) of the named
+// body of a results file: the spring-mass settlement against A (1 - cos(omega t)), and the
+// box's slide along an incline of angle_deg against 0.5 g (sin a - mu cos a) t^2.
+postproc::SpringMassCheck spring_mass_check(const std::string& results_file, const std::string& body,
+                                            double amplitude, double omega);
+postproc::BoxInclineCheck box_incline_check(const std::string& results_file, const std::string& body,
+                                            double angle_deg, double gravity, double friction);
 
 // A number stored under "key": in a JSON text, searched after `after` (a key that opens an
 // enclosing object, or empty). Empty when absent or null.

@@ -4,15 +4,23 @@
 #include <filesystem>
 #include <limits>
 #include <numeric>
+#include <type_traits>
 
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 
 namespace talus::h5 {
 namespace {
 
-// HDF5 prints its own error stack by default; Talus reports errors itself.
+// HDF5 prints its own error stack by default; Talus reports errors itself. And HDF5's exit
+// handler would close again a file whose close failed (a full disk): it crashed in
+// H5F__close_cb after Talus had reported the error. Every file Talus writes is closed, or
+// failed and removed, before the process ends, so the handler is not installed.
 struct SilenceHdf5 {
-  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  SilenceHdf5() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const SilenceHdf5 silence_hdf5;
 
@@ -74,6 +82,7 @@ std::vector<T> read_numbers(const File& file, const std::string& path, Dims* dim
   Handle file_type(H5Dget_type(dataset.id()));
   const H5T_class_t kind = file_type.valid() ? H5Tget_class(file_type.id()) : H5T_NO_CLASS;
   if (kind != H5T_INTEGER && kind != H5T_FLOAT) fail(file, path, "expected numbers");
+  if (std::is_integral_v<T> && kind != H5T_INTEGER) fail(file, path, "expected integers, got floating-point numbers");
   const hsize_t count = checked_count(file, path, local, dataset.id());
   std::vector<T> data(count);
   if (count > 0 && H5Dread(dataset.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
@@ -162,20 +171,22 @@ File File::open_write(const std::string& path) {
   return file;
 }
 
-void File::flush() const { H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL); }
+void File::flush() const {
+  if (H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL) < 0)
+    throw Error(located(path_, "", "cannot write HDF5 file (disk full, or over the file size limit?)"));
+}
+
+void File::close() {
+  if (!handle_.valid()) return;
+  if (H5Fclose(handle_.release()) < 0) throw Error(located(path_, "", "cannot write HDF5 file (disk full, or over the file size limit?)"));
+}
 
 void write_atomically(const std::string& path, const std::function<void(const File&)>& fill) {
-  const std::string temporary = path + ".tmp";
-  try {
+  talus::write_atomically(path, [&](const std::string& temporary) {
     File file = File::create(temporary);
     fill(file);
     file.close();
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
+  });
 }
 
 bool exists(const File& file, const std::string& path) {
@@ -355,62 +366,6 @@ std::vector<double> get_doubles(const File& file, const std::string& path, const
   if (!value.empty() && H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, value.data()) < 0)
     fail(file, root_relative(path) + "@" + name, "expected numbers");
   return value;
-}
-
-Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type,
-                       hsize_t chunk_rows)
-    : record_(record), type_(type), where_(file.path() + ": " + path) {
-  Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(chunk_rows, 1)};
-  for (hsize_t d : record) {
-    dims.push_back(d);
-    max_dims.push_back(d);
-    chunk.push_back(std::max<hsize_t>(d, 1));
-  }
-  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()));
-  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
-  H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data());
-  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
-  H5Pset_create_intermediate_group(lcpl.id(), 1);
-  dataset_ = Handle(H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT));
-  if (!dataset_.valid()) throw Error(where_ + ": cannot create appendable dataset");
-}
-
-void Appendable::append(const void* records, hsize_t rows) {
-  if (rows == 0) return;
-  Dims dims{count_ + rows}, start{count_}, count{rows};
-  for (hsize_t d : record_) {
-    dims.push_back(d);
-    start.push_back(0);
-    count.push_back(d);
-  }
-  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
-  Handle file_space(H5Dget_space(dataset_.id()));
-  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
-  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
-  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
-    throw Error(where_ + ": cannot write record");
-  count_ += rows;
-}
-
-Appendable Appendable::reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
-                              hid_t type) {
-  Appendable appendable;
-  appendable.record_ = record;
-  appendable.type_ = type;
-  appendable.where_ = file.path() + ": " + path;
-  if (!exists(file, path)) fail(file, path, "missing dataset");
-  const Dims dims = shape(file, path);
-  Dims expected{dims.empty() ? 0 : dims[0]};
-  expected.insert(expected.end(), record.begin(), record.end());
-  if (dims != expected) fail(file, path, "unexpected shape");
-  if (dims[0] < keep)
-    fail(file, path, "has " + std::to_string(dims[0]) + " records, fewer than the " + std::to_string(keep) + " expected");
-  appendable.dataset_ = Handle(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
-  Dims cut = expected;
-  cut[0] = keep;
-  if (H5Dset_extent(appendable.dataset_.id(), cut.data()) < 0) fail(file, path, "cannot truncate dataset");
-  appendable.count_ = keep;
-  return appendable;
 }
 
 }  // namespace talus::h5

@@ -27,6 +27,11 @@ class Handle {
   hid_t id() const { return id_; }
   bool valid() const { return id_ >= 0; }
   void reset();
+  hid_t release() {  // gives up ownership without closing
+    const hid_t id = id_;
+    id_ = -1;
+    return id;
+  }
 
  private:
   hid_t id_ = -1;
@@ -40,15 +45,16 @@ class File {
   hid_t id() const { return handle_.id(); }
   const std::string& path() const { return path_; }
   void flush() const;
-  void close() { handle_.reset(); }
+  void close();  // throws talus::Error when HDF5 cannot finish the file
 
  private:
   Handle handle_;
   std::string path_;
 };
 
-// Creates PATH.tmp, lets `fill` write it, closes it and renames it to PATH; on any error the
-// temporary file is removed and the error passes on. A reader never sees half a file.
+// Creates PATH.tmp, lets `fill` write it, closes it and renames it to PATH, by
+// talus::write_atomically (common/atomic_file.hpp): on any error the temporary file is removed
+// and the error passes on. A reader never sees half a file.
 void write_atomically(const std::string& path, const std::function<void(const File&)>& fill);
 
 // Datasets are addressed by a path relative to the file root ("mesh/nodes"); intermediate

@@ -2,10 +2,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/material.hpp"
+#include "common/model_checks.hpp"
 #include "common/model_io.hpp"
+#include "common/parameters.hpp"
 
 namespace talus {
 namespace {
@@ -44,6 +48,46 @@ void check_finite(const h5::File& file, const std::string& path, const std::vect
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!std::isfinite(values[i]))
       throw Error(located(file.path(), path, "non-finite value at flat index " + std::to_string(i)));
+}
+
+// One setting as an attribute of `group`: numbers as doubles, flags and counts as integers,
+// vectors as lists of doubles.
+void write_setting(const h5::File& file, const std::string& group, const char* name, double value) {
+  h5::set_attribute(file, group, name, value);
+}
+void write_setting(const h5::File& file, const std::string& group, const char* name, const Eigen::Vector2d& value) {
+  h5::set_attribute(file, group, name, std::vector<double>{value.x(), value.y()});
+}
+void write_setting(const h5::File& file, const std::string& group, const char* name, Transfer value) {
+  h5::set_attribute(file, group, name, std::string(transfer_name(value)));
+}
+template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
+void write_setting(const h5::File& file, const std::string& group, const char* name, Integer value) {
+  h5::set_attribute(file, group, name, static_cast<int64_t>(value));
+}
+
+void read_setting(const h5::File& file, const std::string& group, const char* name, double& value) {
+  value = h5::get_double(file, group, name);
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, Eigen::Vector2d& value) {
+  const auto values = h5::get_doubles(file, group, name);
+  if (values.size() != 2) throw Error(located(file.path(), group + "@" + name, "expected two numbers"));
+  value = {values[0], values[1]};
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, bool& value) {
+  value = h5::get_int(file, group, name) != 0;
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, Transfer& value) {
+  const std::string text = h5::get_string(file, group, name);
+  const auto transfer = transfer_from_name(text);
+  if (!transfer)
+    throw Error(located(file.path(), group + "@" + name,
+                        "unknown transfer '" + text + "' (expected flip, pic_blend, xpic or apic)"));
+  value = *transfer;
+}
+template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
+void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {
+  value = static_cast<Integer>(h5::get_int(file, group, name));
 }
 
 }  // namespace
@@ -87,31 +131,12 @@ void write_metadata(const h5::File& file, const Model& model) {
     const std::string group = "materials/" + m.name;
     h5::create_group(file, group);
     h5::set_attribute(file, group, "model", std::string(model_name(m.model)));
-    h5::set_attribute(file, group, "density", m.density);
-    h5::set_attribute(file, group, "youngs_modulus", m.youngs_modulus);
-    h5::set_attribute(file, group, "poisson_ratio", m.poisson_ratio);
-    h5::set_attribute(file, group, "friction_angle", m.friction_angle);
-    h5::set_attribute(file, group, "cohesion", m.cohesion);
-    h5::set_attribute(file, group, "dilation_angle", m.dilation_angle);
-    h5::set_attribute(file, group, "tensile_strength", m.tensile_strength);
+    for_each_material_parameter(m, [&](const char* name, const auto& value) { write_setting(file, group, name, value); });
   }
 
-  const RunSettings& run = model.run;
   h5::create_group(file, "settings/run");
-  h5::set_attribute(file, "settings/run", "end_time", run.end_time);
-  h5::set_attribute(file, "settings/run", "cfl", run.cfl);
-  h5::set_attribute(file, "settings/run", "output_interval", run.output_interval);
-  h5::set_attribute(file, "settings/run", "gravity", std::vector<double>{run.gravity.x(), run.gravity.y()});
-  h5::set_attribute(file, "settings/run", "gravity_ramp", run.gravity_ramp);
-  h5::set_attribute(file, "settings/run", "damping", run.damping);
-  h5::set_attribute(file, "settings/run", "evs", static_cast<int64_t>(run.evs));
-  h5::set_attribute(file, "settings/run", "transfer", std::string(transfer_name(run.transfer)));
-  h5::set_attribute(file, "settings/run", "pic_fraction", run.pic_fraction);
-  h5::set_attribute(file, "settings/run", "xpic_order", static_cast<int64_t>(run.xpic_order));
-  h5::set_attribute(file, "settings/run", "history_interval", static_cast<int64_t>(run.history_interval));
-  h5::set_attribute(file, "settings/run", "rest_ratio", run.rest_ratio);
-  h5::set_attribute(file, "settings/run", "rest_window", run.rest_window);
-  h5::set_attribute(file, "settings/run", "max_steps", static_cast<int64_t>(run.max_steps));
+  for_each_run_setting(model.run,
+                       [&](const char* name, const auto& value) { write_setting(file, "settings/run", name, value); });
 
   h5::create_group(file, "settings/contact");
   h5::set_attribute(file, "settings/contact", "enabled", static_cast<int64_t>(model.contact.enabled));
@@ -165,21 +190,8 @@ void read_metadata(const h5::File& file, Model& model) {
     if (kind == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
     else if (kind == "linear_elastic") m.model = MaterialModel::LinearElastic;
     else throw Error(located(file.path(), group + "@model", "unknown material model '" + kind + "'"));
-    m.density = h5::get_double(file, group, "density");
-    m.youngs_modulus = h5::get_double(file, group, "youngs_modulus");
-    m.poisson_ratio = h5::get_double(file, group, "poisson_ratio");
-    m.friction_angle = h5::get_double(file, group, "friction_angle");
-    m.cohesion = h5::get_double(file, group, "cohesion");
-    m.dilation_angle = h5::get_double(file, group, "dilation_angle");
-    m.tensile_strength = h5::get_double(file, group, "tensile_strength");
-    if (!(m.density > 0) || !(m.youngs_modulus > 0) || !(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5) ||
-        !std::isfinite(m.density) || !std::isfinite(m.youngs_modulus))
-      throw Error(located(file.path(), group, "density, youngs_modulus or poisson_ratio out of range"));
-    if (!(m.friction_angle >= 0 && m.friction_angle < 90) || !(m.cohesion >= 0) || !std::isfinite(m.cohesion) ||
-        !(m.dilation_angle >= 0 && m.dilation_angle <= m.friction_angle) || std::isnan(m.tensile_strength) ||
-        std::isinf(m.tensile_strength))
-      throw Error(located(file.path(), group,
-                          "friction_angle, cohesion, dilation_angle or tensile_strength out of range"));
+    for_each_material_parameter(m, [&](const char* key, auto& value) { read_setting(file, group, key, value); });
+    check_material(m, file.path(), group + "@");
     model.materials.push_back(m);
   }
   for (const auto& body : model.bodies)
@@ -187,40 +199,19 @@ void read_metadata(const h5::File& file, Model& model) {
       throw Error(located(file.path(), "bodies/" + body.name + "@material", "material index out of range"));
 
   RunSettings& run = model.run;
-  run.end_time = h5::get_double(file, "settings/run", "end_time");
-  run.cfl = h5::get_double(file, "settings/run", "cfl");
-  run.output_interval = h5::get_double(file, "settings/run", "output_interval");
-  const auto gravity = h5::get_doubles(file, "settings/run", "gravity");
-  if (gravity.size() != 2) throw Error(located(file.path(), "settings/run@gravity", "expected two numbers"));
-  run.gravity = {gravity[0], gravity[1]};
-  run.gravity_ramp = h5::get_double(file, "settings/run", "gravity_ramp");
-  run.damping = h5::get_double(file, "settings/run", "damping");
-  run.evs = h5::get_int(file, "settings/run", "evs") != 0;
-  run.pic_fraction = h5::get_double(file, "settings/run", "pic_fraction");
-  // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0.
-  if (h5::has_attribute(file, "settings/run", "transfer")) {
-    const std::string name = h5::get_string(file, "settings/run", "transfer");
-    const auto transfer = transfer_from_name(name);
-    if (!transfer)
-      throw Error(located(file.path(), "settings/run@transfer", "unknown transfer '" + name +
-                                                                     "' (expected flip, pic_blend, xpic or apic)"));
-    run.transfer = *transfer;
-  } else {
-    run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;
-  }
-  if (h5::has_attribute(file, "settings/run", "xpic_order"))
-    run.xpic_order = static_cast<int>(h5::get_int(file, "settings/run", "xpic_order"));
-  run.history_interval = static_cast<int>(h5::get_int(file, "settings/run", "history_interval"));
-  run.rest_ratio = h5::get_double(file, "settings/run", "rest_ratio");
-  run.rest_window = h5::get_double(file, "settings/run", "rest_window");
-  run.max_steps = h5::get_int(file, "settings/run", "max_steps");
-  if (!(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) || !(run.output_interval > 0) ||
-      !(run.pic_fraction >= 0 && run.pic_fraction <= 1) || !(run.gravity_ramp >= 0) ||
-      !std::isfinite(run.gravity.norm()) || run.history_interval < 1 || !std::isfinite(run.end_time) ||
-      !std::isfinite(run.output_interval) || !std::isfinite(run.gravity_ramp) ||
-      !(run.damping >= 0 && run.damping < 1) || !(run.rest_ratio >= 0 && run.rest_ratio < 1) ||
-      !(run.rest_window > 0) || run.max_steps < 0 || run.xpic_order < 1 || run.xpic_order > 100)
-    throw Error(located(file.path(), "settings/run", "run settings out of range"));
+  // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0,
+  // and had no xpic_order (2).
+  const bool has_transfer = h5::has_attribute(file, "settings/run", "transfer");
+  for_each_run_setting(run, [&](const char* name, auto& value) {
+    const std::string key = name;
+    if ((key == "transfer" || key == "xpic_order") && !h5::has_attribute(file, "settings/run", name)) return;
+    read_setting(file, "settings/run", name, value);
+  });
+  if (!has_transfer) run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;
+  if (const std::string problem = run_settings_problem(run); !problem.empty())
+    throw Error(located(file.path(), "", problem));
+  if (const std::string problem = output_interval_problem(run); !problem.empty())
+    throw Error(located(file.path(), "settings/run@output_interval", problem));
 
   model.contact.enabled = h5::get_int(file, "settings/contact", "enabled") != 0;
   model.contact.friction = h5::get_double(file, "settings/contact", "friction");
@@ -244,6 +235,19 @@ void read_metadata(const h5::File& file, Model& model) {
   post.spring_amplitude = h5::get_double(file, "settings/post", "spring_amplitude");
   post.spring_omega = h5::get_double(file, "settings/post", "spring_omega");
   post.incline_angle = h5::get_double(file, "settings/post", "incline_angle");
+}
+
+void write_results_start(const h5::File& file, const Model& metadata,
+                         const std::vector<Eigen::Vector2d>& initial_position, const std::vector<int32_t>& body,
+                         const std::vector<double>& mass, const std::vector<double>& volume) {
+  write_format_tag(file, "talus-results", kResultsFormatVersion);
+  write_metadata(file, metadata);
+  const hsize_t n = initial_position.size();
+  h5::write(file, "particles/initial_position", flatten(initial_position), {n, 2});
+  h5::write(file, "particles/body", body, {n});
+  h5::write(file, "particles/mass", mass, {n});
+  h5::write(file, "particles/volume", volume, {n});
+  h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
 }
 
 void write_model(const std::string& path, const Model& model) {
@@ -348,6 +352,8 @@ Model read_model(const std::string& path) {
     if (model.element[p] < 0 || model.element[p] >= static_cast<int32_t>(model.triangles.size()))
       throw Error(located(path, "particles/element", "element index out of range for particle " + std::to_string(p)));
   }
+  check_particle_count(file, n);
+  check_model_geometry(model, path);
   return model;
 }
 

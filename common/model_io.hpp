@@ -31,4 +31,12 @@ void write_metadata(const h5::File& file, const Model& model);
 // Fills scene_name, bodies, materials, run, contact and post of `model`.
 void read_metadata(const h5::File& file, Model& model);
 
+// The start of results.h5, all that is known before the first step, for every writer of it (the
+// solver's, and postproc::write_results for tests and tools): the format tag, the metadata of
+// `metadata`, and per particle its initial position, body, mass and initial volume
+// (particles/*), their count as the root attribute `particles`. The frames and the history follow.
+void write_results_start(const h5::File& file, const Model& metadata,
+                         const std::vector<Eigen::Vector2d>& initial_position, const std::vector<int32_t>& body,
+                         const std::vector<double>& mass, const std::vector<double>& volume);
+
 }  // namespace talus

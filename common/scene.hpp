@@ -144,6 +144,14 @@ std::optional<Transfer> transfer_from_name(const std::string& name);
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+// At most this many frames in a run (end_time / output_interval), and as many periodic
+// checkpoints (end_time / --checkpoint-interval): a tiny interval would otherwise write frames
+// without end, or add an interval too small to move the time on.
+constexpr double kMaxFrames = 100000;
+// Empty when run.output_interval gives at most kMaxFrames frames over run.end_time; otherwise
+// "got X: N frames over run.end_time = T s, at most ..." for the key named by the caller.
+std::string output_interval_problem(const RunSettings& run);
+
 // Coulomb friction for a pair of bodies (per-pair value, else the scene default).
 double pair_friction(const ContactSettings& contact, const std::string& a, const std::string& b);
 

@@ -51,6 +51,22 @@ Polyline slip_surface(const std::vector<Eigen::Vector2d>& x0, const std::vector<
   return smooth_polyline(points);
 }
 
+SlipSurface extract_slip_surface(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& from,
+                                 const std::vector<Eigen::Vector2d>& to, const std::vector<double>& initial_volume,
+                                 double threshold, double column_width, const Mirror& mirror) {
+  SlipSurface out;
+  const std::vector<char> sliding = sliding_mask(from, to, threshold);
+  out.failed_area = failed_area(sliding, initial_volume);
+  const Polyline surface = slip_surface(x0, sliding, column_width);
+  out.circle = fit_circle(surface);
+  if (out.circle) {
+    out.circle_rms = circle_rms_distance(*out.circle, surface);
+    out.circle->centre = mirror.point(out.circle->centre);
+  }
+  out.surface = mirror.polyline(surface);
+  return out;
+}
+
 std::optional<std::size_t> onset_frame(const std::vector<std::vector<Eigen::Vector2d>>& positions,
                                        const std::vector<Eigen::Vector2d>& x0, double threshold) {
   for (std::size_t frame = 0; frame < positions.size(); ++frame)

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "postproc/circle_fit.hpp"
 #include "postproc/slope_geometry.hpp"
 
 namespace talus::postproc {
@@ -27,6 +28,22 @@ double failed_area(const std::vector<char>& sliding, const std::vector<double>& 
 // whose best split leaves nothing sliding on top have no point. Smoothed by smooth_polyline.
 Polyline slip_surface(const std::vector<Eigen::Vector2d>& x0, const std::vector<char>& sliding,
                       double column_width);
+
+// The failure surface of one displacement, as `talus post` (the last frame from the initial
+// one) and `talus fos` (the first failing trial from equilibrium) report it: the particles that
+// moved more than `threshold` from `from` to `to` slide; their initial area, the slip surface
+// drawn at the initial positions x0 in columns of `column_width`, and the circle fitted to it.
+// Every position in the canonical frame; the surface and the circle come back through `mirror`
+// into the scene's frame.
+struct SlipSurface {
+  double failed_area = 0;         // m^2
+  Polyline surface;               // scene frame, x increasing
+  std::optional<Circle> circle;   // scene frame; empty with fewer than 3 non-collinear points
+  double circle_rms = 0;          // m, circle_rms_distance of the fit (0 without a circle)
+};
+SlipSurface extract_slip_surface(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& from,
+                                 const std::vector<Eigen::Vector2d>& to, const std::vector<double>& initial_volume,
+                                 double threshold, double column_width, const Mirror& mirror);
 
 // The first frame whose largest displacement from the initial positions exceeds threshold.
 std::optional<std::size_t> onset_frame(const std::vector<std::vector<Eigen::Vector2d>>& positions,

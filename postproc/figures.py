@@ -35,9 +35,19 @@ def read_csv(path):
 
 
 def save(fig, out, name, written):
+    # Written beside and renamed, like fos.png: a failed write (a full disk) leaves no
+    # truncated PNG under the final name.
     path = os.path.join(out, name)
-    fig.savefig(path, dpi=150, bbox_inches="tight")
-    plt.close(fig)
+    temporary = path + ".tmp.png"
+    try:
+        fig.savefig(temporary, dpi=150, bbox_inches="tight")
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.remove(temporary)
+        raise
+    finally:
+        plt.close(fig)
     written.append(path)
 
 

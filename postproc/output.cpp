@@ -2,10 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
-#include "common/error.hpp"
+#include "common/atomic_file.hpp"
 
 namespace talus::postproc {
 namespace {
@@ -141,17 +139,7 @@ JsonWriter& JsonWriter::value(const Polyline& points) {
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(located(temporary, "", "cannot open for writing"));
-    out << content;
-    out.flush();
-    if (!out) throw Error(located(temporary, "", "write failed (disk full?)"));
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw Error(located(path, "", "cannot replace with " + temporary + ": " + error.message()));
+  write_text_atomically(path, content);
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& header,

@@ -1,5 +1,6 @@
-// Writing the postprocessor's outputs: a small JSON writer (no dependency), CSV tables, and
-// atomic file replacement (write PATH.tmp, then rename) so that a reader never sees half a file.
+// Writing the postprocessor's outputs: a small JSON writer (no dependency) and CSV tables,
+// each file replaced atomically (common/atomic_file.hpp: PATH.tmp, then a rename) so that a
+// reader never sees half a file.
 #pragma once
 #include <optional>
 #include <string>
@@ -44,7 +45,8 @@ class JsonWriter {
   bool after_key_ = false;
 };
 
-// Writes `content` to PATH.tmp and renames it to PATH. Throws talus::Error naming the file.
+// talus::write_text_atomically: `content` to PATH.tmp, renamed to PATH. Throws talus::Error
+// naming the file.
 void write_file_atomically(const std::string& path, const std::string& content);
 
 // A CSV table with a header row; all columns of equal length. Written atomically.

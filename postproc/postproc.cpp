@@ -2,20 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "common/error.hpp"
 #include "common/scene.hpp"
+#include "postproc/analysed_slope.hpp"
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
+#include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"
 #include "postproc/results.hpp"
 #include "postproc/runout.hpp"
@@ -31,37 +31,6 @@ const std::set<std::string> kMetrics = {"runout", "failure_surface", "bishop", "
 
 bool wants(const PostSettings& post, const std::string& metric) {
   return std::find(post.metrics.begin(), post.metrics.end(), metric) != post.metrics.end();
-}
-
-// The analysed body (post.body, default the first) and its particles.
-struct BodySelection {
-  int index = 0;
-  std::vector<std::size_t> particles;
-};
-
-BodySelection select_body(const Results& results, const std::string& file) {
-  const auto& bodies = results.metadata.bodies;
-  const std::string& wanted = results.metadata.post.body;
-  BodySelection selection;
-  if (!wanted.empty()) {
-    const auto found = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name == wanted; });
-    if (found == bodies.end()) throw Error(located(file, "settings/post@body", "no body named '" + wanted + "'"));
-    selection.index = static_cast<int>(found - bodies.begin());
-  }
-  if (bodies.empty()) throw Error(located(file, "bodies", "no bodies"));
-  for (std::size_t p = 0; p < results.particles(); ++p)
-    if (results.body[p] == selection.index) selection.particles.push_back(p);
-  if (selection.particles.empty())
-    throw Error(located(file, "particles/body", "body '" + bodies[selection.index].name + "' has no particles"));
-  return selection;
-}
-
-std::vector<Eigen::Vector2d> gather(const std::vector<Eigen::Vector2d>& all, const std::vector<std::size_t>& which,
-                                    const Mirror& mirror) {
-  std::vector<Eigen::Vector2d> out;
-  out.reserve(which.size());
-  for (std::size_t p : which) out.push_back(mirror.point(all[p]));
-  return out;
 }
 
 // Centre of mass of the selected particles at the given positions.
@@ -99,25 +68,23 @@ struct Metrics {
   double box_friction = 0;
 };
 
-void slope_metrics(const Results& results, const BodySelection& body, const std::string& file, Metrics& m) {
+void slope_metrics(const Results& results, const AnalysedBody& body, const std::string& file, Metrics& m) {
   const PostSettings& post = results.metadata.post;
   const BodyInfo& info = results.metadata.bodies[body.index];
-  const Polyline& loop = outer_loop(info.loops);
-  m.mirror.active = descends_to_left(loop);
-  Polyline canonical;
-  for (const auto& p : loop) canonical.push_back(m.mirror.point(p));
-  m.profile = slope_profile(canonical);
+  double motion_x = 0;  // which way a level-topped body (a column) ran out
+  for (std::size_t p : body.particles) motion_x += results.position.back()[p].x() - results.initial_position[p].x();
+  const AnalysedSlope slope = analysed_slope(info, {file}, motion_x / static_cast<double>(body.particles.size()));
+  m.mirror = slope.mirror;
+  m.profile = slope.profile;
   const SlopeProfile& profile = *m.profile;
-  if (!(profile.height > 0))
-    throw Error(located(file, "bodies/" + info.name, "the slope metrics need a slope, but the ground surface is flat"));
   m.sliding_threshold = post.sliding_threshold * profile.height;
 
   std::vector<double> volume;
   for (std::size_t p : body.particles) volume.push_back(results.volume[p]);
   const ColumnRule rule = column_rule_for(volume);
   m.column_width = rule.width;
-  const auto x0 = gather(results.initial_position, body.particles, m.mirror);
-  const auto x1 = gather(results.position.back(), body.particles, m.mirror);
+  const auto x0 = canonical_positions(results.initial_position, body.particles, m.mirror);
+  const auto x1 = canonical_positions(results.position.back(), body.particles, m.mirror);
 
   if (wants(post, "runout")) {
     m.runout = runout_metrics(profile, x0, x1, m.sliding_threshold, rule);
@@ -129,7 +96,7 @@ void slope_metrics(const Results& results, const BodySelection& body, const std:
         v.emplace_back(m.mirror.x(velocity.x()), velocity.y());
       }
       const DepositFront front =
-          deposit_front(gather(results.position[f], body.particles, m.mirror), v, profile.surface, rule);
+          deposit_front(canonical_positions(results.position[f], body.particles, m.mirror), v, profile.surface, rule);
       m.front_x.push_back(m.mirror.x(front.found ? front.tip.x() : profile.toe.x()));
       m.front_velocity.push_back(front.found ? front.velocity : 0.0);
     }
@@ -137,17 +104,13 @@ void slope_metrics(const Results& results, const BodySelection& body, const std:
 
   if (wants(post, "failure_surface")) {
     m.failure_done = true;
-    const auto sliding = sliding_mask(x0, x1, m.sliding_threshold);
-    m.failed_area = failed_area(sliding, volume);
-    const Polyline surface = slip_surface(x0, sliding, rule.width);
-    m.slip_circle = fit_circle(surface);
-    if (m.slip_circle) {
-      m.slip_circle_rms = circle_rms_distance(*m.slip_circle, surface);
-      m.slip_circle->centre = m.mirror.point(m.slip_circle->centre);
-    }
-    m.failure_surface = m.mirror.polyline(surface);
+    SlipSurface slip = extract_slip_surface(x0, x0, x1, volume, m.sliding_threshold, rule.width, m.mirror);
+    m.failed_area = slip.failed_area;
+    m.slip_circle = slip.circle;
+    m.slip_circle_rms = slip.circle_rms;
+    m.failure_surface = std::move(slip.surface);
     std::vector<std::vector<Eigen::Vector2d>> frames;
-    for (const auto& frame : results.position) frames.push_back(gather(frame, body.particles, m.mirror));
+    for (const auto& frame : results.position) frames.push_back(canonical_positions(frame, body.particles, m.mirror));
     const auto onset = onset_frame(frames, x0, m.sliding_threshold);
     if (onset) {
       m.onset_time = results.frame_time[*onset];
@@ -166,17 +129,11 @@ void slope_metrics(const Results& results, const BodySelection& body, const std:
       throw Error(located(file, "materials/" + material.name,
                           "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle)"));
     m.soil = {material.cohesion, material.friction_angle, material.density * results.metadata.run.gravity.norm()};
-    m.bishop = bishop_search(profile, m.soil);
-    if (m.bishop) {
-      m.bishop->circle.centre = m.mirror.point(m.bishop->circle.centre);
-      const double entry = m.mirror.x(m.bishop->x_entry), exit = m.mirror.x(m.bishop->x_exit);
-      m.bishop->x_entry = std::min(entry, exit);
-      m.bishop->x_exit = std::max(entry, exit);
-    }
+    m.bishop = critical_circle(slope, m.soil);
   }
 }
 
-void validation_metrics(const Results& results, const BodySelection& body, Metrics& m) {
+void validation_metrics(const Results& results, const AnalysedBody& body, Metrics& m) {
   const PostSettings& post = results.metadata.post;
   if (wants(post, "spring_mass")) {
     std::vector<double> centre_y;
@@ -202,7 +159,7 @@ void write_point(JsonWriter& json, const std::string& key, const Eigen::Vector2d
   json.key(key).begin_array().value(p.x()).value(p.y()).end_array();
 }
 
-std::string metrics_json(const Results& results, const BodySelection& body, const std::string& results_path,
+std::string metrics_json(const Results& results, const AnalysedBody& body, const std::string& results_path,
                          const Metrics& m) {
   JsonWriter json;
   json.begin_object();
@@ -225,6 +182,7 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
   }
   if (m.runout) {
     json.key("runout_distance_m").value(m.runout->runout_distance);
+    json.key("final_height_m").value(m.runout->final_height);
     json.key("crest_retreat_m").value(m.runout->crest_retreat);
     json.key("travel_angle_deg").value(m.runout->travel_angle_deg);
     json.key("deposit_found").value(m.runout->deposit_found);
@@ -241,8 +199,7 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
     json.key("shear_band").value(m.shear_band);
   }
   if (m.bishop_done) {
-    json.key("bishop_fos").value(m.bishop ? std::optional<double>(m.bishop->factor_of_safety) : std::nullopt);
-    json.key("bishop_circle").value(m.bishop ? std::optional<Circle>(m.bishop->circle) : std::nullopt);
+    write_bishop_keys(json, m.bishop);
     json.key("bishop_soil").begin_object()
         .key("cohesion_Pa").value(m.soil.cohesion)
         .key("friction_angle_deg").value(m.soil.friction_angle)
@@ -276,12 +233,6 @@ std::string metrics_json(const Results& results, const BodySelection& body, cons
   return json.text();
 }
 
-std::string shell_quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 std::string format(std::optional<double> value, int precision, const std::string& unit) {
   if (!value) return "n/a";
   std::ostringstream out;
@@ -310,7 +261,7 @@ void print_summary(const Metrics& m, std::ostream& log) {
     if (m.bishop)
       log << "F = " << format(m.bishop->factor_of_safety, 3, "") << ", centre (" << format(m.bishop->circle.centre.x(), 2, "")
           << ", " << format(m.bishop->circle.centre.y(), 2, "") << ") m, R " << format(m.bishop->circle.radius, 2, " m")
-          << "\n";
+          << ", " << to_string(m.bishop->kind) << " circle, " << m.bishop->circles_evaluated << " circles evaluated\n";
     else
       log << "no admissible circle\n";
   }
@@ -325,14 +276,6 @@ void print_summary(const Metrics& m, std::ostream& log) {
 
 }  // namespace
 
-std::string figures_script() {
-#ifdef TALUS_SOURCE_DIR
-  return std::string(TALUS_SOURCE_DIR) + "/postproc/figures.py";
-#else
-  return {};
-#endif
-}
-
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options) {
   const Results results = read_results(results_path);
@@ -341,7 +284,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
     if (!kMetrics.count(metric))
       throw Error(located(results_path, "settings/post/metrics",
                           "unknown metric '" + metric + "' (expected runout, failure_surface, bishop, spring_mass or box_incline)"));
-  const BodySelection body = select_body(results, results_path);
+  const AnalysedBody body = analysed_body(results.metadata, results.body, {results_path});
 
   Metrics m;
   if (wants(post, "runout") || wants(post, "failure_surface") || wants(post, "bishop"))
@@ -371,26 +314,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
 
   if (!options.figures) return 0;
   const std::string script = options.figures_script.empty() ? figures_script() : options.figures_script;
-  if (script.empty() || !fs::exists(script)) {
-    log << "  figures skipped: figures.py not found" << (script.empty() ? "" : " at " + script) << "\n";
-    return 1;
-  }
-  const std::string command = shell_quoted(options.python) + " " + shell_quoted(script) + " --results " +
-                              shell_quoted(results_path) + " --out " + shell_quoted(out_dir);
-  // The script's own lines (what it wrote, or its traceback) go to the same log.
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) {
-    log << "  figures failed: cannot start `" << command << "`\n";
-    return 1;
-  }
-  std::array<char, 4096> line;
-  while (std::fgets(line.data(), line.size(), pipe)) log << "  " << line.data();
-  const int status = pclose(pipe);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    log << "  figures failed: `" << command << "` exited with status "
-        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << "\n";
-    return 1;
-  }
+  run_figure_script(script, {"--results", results_path, "--out", out_dir}, log, options.python);
   return 0;
 }
 

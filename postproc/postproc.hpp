@@ -6,17 +6,21 @@
 //                             time_to_rest_s; front.csv (time_s, front_x_m, front_velocity_m_s)
 //   metrics "failure_surface" failed_area_m2, failure_surface [[x, y], ...], slip_circle
 //                             {xc_m, yc_m, r_m}, onset_time_s, shear_band [[x, y], ...]
-//   metrics "bishop"          bishop_fos, bishop_circle {xc_m, yc_m, r_m}
+//   metrics "bishop"          bishop_fos, bishop_circle {xc_m, yc_m, r_m}, bishop_entry_m,
+//                             bishop_exit_m, bishop_circle_kind, bishop_tangent_to_base,
+//                             bishop_circles_evaluated, bishop_soil
 //   metrics "spring_mass"     spring_mass {...}; spring_mass.csv (time_s, mpm_m, exact_m)
 //   metrics "box_incline"     box_incline {...}; box_incline.csv (time_s, mpm_m, exact_m)
 //   always                    energy.csv (time_s, kinetic_J, potential_J, strain_J)
 //
 // Definitions and rules: docs/postproc.md. The library's parts, for use on their own:
 // slope_geometry.hpp, runout.hpp, failure_surface.hpp, circle_fit.hpp, bishop.hpp,
-// validation.hpp, results.hpp, output.hpp.
+// validation.hpp, results.hpp, output.hpp, figure_script.hpp.
 #pragma once
 #include <ostream>
 #include <string>
+
+#include "postproc/figure_script.hpp"
 
 namespace talus::postproc {
 
@@ -32,9 +36,6 @@ struct PostOptions {
 // failed (the log says why). Throws talus::Error on unreadable or inconsistent results and on
 // a scene whose metrics cannot be computed (an unknown metric, a flat "slope", Bishop on an
 // elastic material), naming the file and the item.
-// The figures script this build uses by default (empty when built without TALUS_SOURCE_DIR).
-std::string figures_script();
-
 int run_post(const std::string& results_path, const std::string& out_dir, std::ostream& log,
              const PostOptions& options = {});
 

@@ -1,10 +1,10 @@
 #include "postproc/results.hpp"
 
 #include <cmath>
-#include <filesystem>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/model_checks.hpp"
 #include "common/model_io.hpp"
 
 namespace talus::postproc {
@@ -76,6 +76,8 @@ Results read_results(const std::string& path) {
   results.frame_time = h5::read_doubles(file, "frames/time", &time_dims);
   const std::size_t f = results.frame_time.size();
   if (f == 0) throw Error(located(path, "frames/time", "no frames"));
+  check_frame_times(results.frame_time, path);
+  check_particle_count(file, n);
   results.position = as_points(read_frames(file, "frames/position", f, n, 2), f, n);
   results.velocity = as_points(read_frames(file, "frames/velocity", f, n, 2), f, n);
   if (h5::exists(file, "frames/plastic_strain")) {
@@ -94,16 +96,10 @@ Results read_results(const std::string& path) {
 }
 
 void write_results(const std::string& path, const Results& results) {
-  const std::string temporary = path + ".tmp";
-  {
-    const h5::File file = h5::File::create(temporary);
-    write_format_tag(file, "talus-results", kResultsFormatVersion);
-    write_metadata(file, results.metadata);
+  h5::write_atomically(path, [&](const h5::File& file) {
+    write_results_start(file, results.metadata, results.initial_position, results.body, results.mass,
+                        results.volume);
     const hsize_t f = results.frames(), n = results.particles();
-    h5::write(file, "particles/initial_position", flatten({results.initial_position}), {n, 2});
-    h5::write(file, "particles/body", results.body, {n});
-    h5::write(file, "particles/mass", results.mass, {n});
-    h5::write(file, "particles/volume", results.volume, {n});
     h5::write(file, "frames/time", results.frame_time, {f});
     h5::write(file, "frames/position", flatten(results.position), {f, n, 2});
     h5::write(file, "frames/velocity", flatten(results.velocity), {f, n, 2});
@@ -117,12 +113,8 @@ void write_results(const std::string& path, const Results& results) {
     h5::write(file, "history/kinetic_energy", results.kinetic_energy, {h});
     h5::write(file, "history/potential_energy", results.potential_energy, {h});
     h5::write(file, "history/strain_energy", results.strain_energy, {h});
-    h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
     h5::set_attribute(file, "/", "complete", static_cast<int64_t>(results.complete));
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw Error(located(path, "", "cannot replace with " + temporary + ": " + error.message()));
+  });
 }
 
 }  // namespace talus::postproc

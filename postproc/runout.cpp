@@ -81,6 +81,10 @@ RunoutMetrics runout_metrics(const SlopeProfile& profile, const std::vector<Eige
   metrics.crest_retreat = std::max(0.0, profile.crest.x() - crown_x);
   metrics.crown = {crown_x, surface_height(profile.surface, crown_x)};
 
+  double highest = -INFINITY;
+  for (const auto& p : x1) highest = std::max(highest, p.y());
+  metrics.final_height = x1.empty() ? 0 : highest - profile.toe.y();
+
   const DepositFront front = deposit_front(x1, {}, profile.surface, rule);
   metrics.deposit_found = front.found;
   metrics.tip = front.found ? front.tip : profile.toe;

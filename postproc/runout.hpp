@@ -41,6 +41,7 @@ struct RunoutMetrics {
   bool deposit_found = false;
   double runout_distance = 0;  // tip.x - toe.x (m); 0 without a deposit
   double crest_retreat = 0;    // crest.x - scarp x (m), >= 0
+  double final_height = 0;     // highest final particle above the toe (m): the column's H_inf
   std::optional<double> travel_angle_deg;  // atan(H/L) from the crown to the tip; empty without a deposit
   Eigen::Vector2d crown{0, 0};  // head of the failure on the initial surface (m)
   Eigen::Vector2d tip{0, 0};    // deposit tip (m)

@@ -4,19 +4,10 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "common/geometry.hpp"
 
 namespace talus::postproc {
 namespace {
-
-double signed_area(const Polyline& loop) {
-  double twice_area = 0;
-  for (std::size_t i = 0; i < loop.size(); ++i) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
-    twice_area += a.x() * b.y() - b.x() * a.y();
-  }
-  return 0.5 * twice_area;
-}
 
 // The upper boundary of a simple polygon, x increasing. Walking a counter-clockwise loop, the
 // top runs from the rightmost to the leftmost vertex; of several vertices on a vertical side,
@@ -51,23 +42,31 @@ const Polyline& outer_loop(const std::vector<Polyline>& loops) {
   });
 }
 
-bool descends_to_left(const Polyline& loop) {
+bool descends_to_left(const Polyline& loop, double motion_x) {
   const Polyline top = upper_boundary(loop);
+  if (top.front().y() == top.back().y()) return motion_x < 0;
   return top.front().y() < top.back().y();
 }
 
-SlopeProfile slope_profile(const Polyline& loop) {
+SlopeProfile slope_profile(const Polyline& loop, bool level_top_runs_out) {
   SlopeProfile profile;
   profile.surface = upper_boundary(loop);
-  const Polyline& s = profile.surface;
+  Polyline& s = profile.surface;
   for (std::size_t i = 1; i < s.size(); ++i)
-    if (!(s[i].x() > s[i - 1].x()))
-      throw Error("postproc: the ground surface of the analysed body is not a function of x near (" +
-                  std::to_string(s[i].x()) + ", " + std::to_string(s[i].y()) +
-                  "); the slope metrics need a surface without overhangs or vertical steps");
+    if (s[i].x() < s[i - 1].x())
+      throw Error("postproc: the ground surface of the analysed body overhangs near (" + std::to_string(s[i].x()) +
+                  ", " + std::to_string(s[i].y()) + "); the slope metrics need a surface without overhangs");
   profile.base_y = std::min_element(loop.begin(), loop.end(), [](const auto& a, const auto& b) {
                      return a.y() < b.y();
                    })->y();
+  // A level-topped body (a column, a block) that ran out has no slope on its top: its downhill
+  // face is the side it ran out from, down to the lowest point of the loop on that side.
+  const double x_end = s.back().x();
+  double foot_y = s.back().y();
+  for (const auto& p : loop)
+    if (p.x() == x_end) foot_y = std::min(foot_y, p.y());
+  const bool level_top = std::all_of(s.begin(), s.end(), [&](const auto& p) { return p.y() == s.front().y(); });
+  if (level_top_runs_out && level_top && foot_y < s.back().y()) s.emplace_back(x_end, foot_y);
 
   double top = -INFINITY, bottom = INFINITY;
   for (const auto& p : s) top = std::max(top, p.y()), bottom = std::min(bottom, p.y());
@@ -87,9 +86,16 @@ SlopeProfile slope_profile(const Polyline& loop) {
   return profile;
 }
 
+bool has_vertical_face(const Polyline& surface) {
+  for (std::size_t i = 1; i < surface.size(); ++i)
+    if (surface[i].x() == surface[i - 1].x()) return true;
+  return false;
+}
+
 double surface_height(const Polyline& surface, double x) {
   if (x <= surface.front().x()) return surface.front().y();
   if (x >= surface.back().x()) return surface.back().y();
+  // At a vertical step (two points at one x) the height just downhill of it counts.
   const auto upper = std::upper_bound(surface.begin(), surface.end(), x,
                                       [](double value, const Eigen::Vector2d& p) { return value < p.x(); });
   const Eigen::Vector2d& b = *upper;

@@ -10,8 +10,10 @@ namespace talus::postproc {
 
 using Polyline = std::vector<Eigen::Vector2d>;
 
+// The initial front of a body, the foot of its downhill face, is the toe: the foot of a slope
+// face, of a vertical cliff, or of a column's free side.
 struct SlopeProfile {
-  Polyline surface;          // ground surface, x strictly increasing (m)
+  Polyline surface;          // ground surface, x increasing; two points at one x make a vertical face (m)
   Eigen::Vector2d crest{0, 0};  // downhill end of the highest part of the surface (m)
   Eigen::Vector2d toe{0, 0};    // first point at the lowest level downhill of the crest (m)
   double height = 0;         // crest.y - toe.y (m)
@@ -22,12 +24,21 @@ struct SlopeProfile {
 const Polyline& outer_loop(const std::vector<Polyline>& loops);
 
 // True when the ground at the left end of the loop's upper boundary is lower than at its right
-// end, i.e. the slope descends towards -x and must be mirrored into the canonical frame.
-bool descends_to_left(const Polyline& loop);
+// end, i.e. the slope descends towards -x and must be mirrored into the canonical frame. A
+// level top (a column, a block) has no such direction: then the body's motion decides, true
+// when motion_x (its mean displacement along x, m) is negative.
+bool descends_to_left(const Polyline& loop, double motion_x = 0);
 
-// The profile of a loop whose slope descends towards +x. Throws talus::Error when the upper
-// boundary is not a function of x (an overhang), which a method of slices cannot treat.
-SlopeProfile slope_profile(const Polyline& loop);
+// The profile of a loop whose slope descends towards +x. The upper boundary may have vertical
+// faces (a cliff). With level_top_runs_out, a level-topped body (a column that ran out towards
+// +x) gets its +x side as its face: the surface goes on down that side to the loop's lowest
+// point there, which is the toe; without, its profile is flat (height 0). Throws talus::Error
+// when the upper boundary overhangs.
+SlopeProfile slope_profile(const Polyline& loop, bool level_top_runs_out = false);
+
+// True when the surface has a vertical face (two points at one x): a method of slices needs
+// the ground as a function of x.
+bool has_vertical_face(const Polyline& surface);
 
 // Height of the surface at x by linear interpolation; constant beyond either end.
 double surface_height(const Polyline& surface, double x);

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "preproc/geo_guard.hpp"
 #include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
@@ -116,12 +117,38 @@ std::string number(double x, int digits = 3) {
   return s.str();
 }
 
+// The explicit solver's time step is about cfl x (an element's height) / (the P-wave speed of
+// the stiffest material): a run of more than kMaxSteps steps would not finish. run.max_steps
+// bounds the run, so a scene that sets it is not refused.
+void check_steps(const Scene& scene, double h) {
+  constexpr double kMaxSteps = 1e8;
+  if (scene.run.max_steps > 0) return;
+  for (const auto& body : scene.bodies) {
+    const int index = scene.material_index(body.material);
+    if (index < 0) continue;  // the meshing names it
+    const Material& m = scene.materials[index];
+    const double nu = m.poisson_ratio;
+    const double wave_speed = std::sqrt(m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / m.density);
+    const double step = scene.run.cfl * 0.5 * h / wave_speed;
+    const double steps = scene.run.end_time / step;
+    if (steps > kMaxSteps)
+      throw Error(located(scene.path, "materials." + m.name + ".youngs_modulus",
+                          "a wave speed of " + number(wave_speed) + " m/s at an element size of " + number(h) +
+                              " m gives a time step of about " + number(step) + " s: about " + number(steps) +
+                              " steps over run.end_time = " + number(scene.run.end_time) + " s, more than " +
+                              number(kMaxSteps) +
+                              " (lower youngs_modulus, shorten run.end_time, raise mesh.size, or set run.max_steps "
+                              "to run anyway)"));
+  }
+}
+
 }  // namespace
 
 SizeEstimate estimate_size(const Scene& scene) {
   SizeEstimate estimate;
   std::ifstream probe(scene.geometry);
   if (!probe) return estimate;  // the meshing reports the missing file
+  check_geo_program(scene.geometry);  // before gmsh parses (and runs) the .geo
   try {
     GmshSession reader;
     gmsh::open(scene.geometry);
@@ -159,6 +186,7 @@ void check_size(const Scene& scene) {
                             number(e.particles) + " particles, about " + number(e.bytes / 1e9) +
                             " GB to solve (500 B per particle, 200 B per node, 150 B per triangle), more than the " +
                             number(available / 1e9) + " GB of MemAvailable: raise mesh.size"));
+  check_steps(scene, e.element_size);
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     const double area = e.body_areas[b];

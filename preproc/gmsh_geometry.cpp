@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/error.hpp"
+#include "preproc/geo_guard.hpp"
 #include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
@@ -123,6 +124,7 @@ GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& 
   std::error_code error;
   if (!fs::is_regular_file(geo_path, error))
     throw Error(located(geo_path, "", "no such geometry file" + (named_by.empty() ? "" : " (named by " + named_by + ")")));
+  check_geo_program(geo_path);  // gmsh runs the .geo as it parses it: refuse commands first
 
   GmshSession session;
   // Defaults that the .geo may change (it is read after these are set).

@@ -8,6 +8,8 @@
 #include <set>
 #include <unordered_map>
 
+#include "common/geometry.hpp"
+
 namespace talus::preproc {
 
 std::optional<std::vector<std::vector<std::size_t>>> chain_loops(const std::vector<std::array<std::size_t, 2>>& segments,
@@ -62,16 +64,6 @@ std::optional<std::vector<std::vector<std::size_t>>> chain_loops(const std::vect
     }
   }
   return loops;
-}
-
-double signed_area(const Loop& loop) {
-  double twice_area = 0;
-  for (std::size_t i = 0, n = loop.size(); i < n; ++i) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[(i + 1) % n];
-    twice_area += a.x() * b.y() - b.x() * a.y();
-  }
-  return 0.5 * twice_area;
 }
 
 Region::Region(std::vector<Loop> loops) : loops_(std::move(loops)) {

@@ -47,7 +47,4 @@ class Region {
   std::vector<Eigen::AlignedBox2d> boxes_;
 };
 
-// Signed area of a loop (positive when counter-clockwise), by the shoelace formula.
-double signed_area(const Loop& loop);
-
 }  // namespace talus::preproc

@@ -5,45 +5,33 @@
 #include <filesystem>
 
 #include "common/error.hpp"
+#include "common/fingerprint.hpp"
 #include "common/h5.hpp"
 #include "common/model_io.hpp"
+#include "common/parameters.hpp"
 #include "solver/particle_io.hpp"
 
 namespace talus::solver {
 namespace {
 
-// FNV-1a over raw bytes.
-class Fingerprint {
- public:
-  template <class T>
-  Fingerprint& add(const std::vector<T>& values) {
-    add(static_cast<uint64_t>(values.size()));
-    add_bytes(values.data(), values.size() * sizeof(T));
-    return *this;
-  }
-  Fingerprint& add(const std::string& text) {
-    add(static_cast<uint64_t>(text.size()));
-    add_bytes(text.data(), text.size());
-    return *this;
-  }
-  template <class T, class = std::enable_if_t<std::is_arithmetic_v<T>>>
-  Fingerprint& add(T value) {
-    add_bytes(&value, sizeof value);
-    return *this;
-  }
-  int64_t value() const {
-    int64_t stored = 0;
-    std::memcpy(&stored, &hash_, sizeof stored);
-    return stored;
-  }
+// A section's fingerprint as an HDF5 attribute value (the same 64 bits, signed).
+int64_t stored(const Fingerprint& f) {
+  const uint64_t value = f.value();
+  int64_t out = 0;
+  std::memcpy(&out, &value, sizeof out);
+  return out;
+}
 
- private:
-  void add_bytes(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ bytes[i]) * 1099511628211ull;
-  }
-  uint64_t hash_ = 1469598103934665603ull;
-};
+// A setting's value: numbers and flags as they are, vectors component by component.
+void add_setting(Fingerprint& f, const Eigen::Vector2d& value) { f.add(value.x()).add(value.y()); }
+void add_setting(Fingerprint& f, Transfer value) { f.add(static_cast<int>(value)); }
+template <class T>
+void add_setting(Fingerprint& f, const T& value) {
+  f.add(value);
+}
+
+// A name with its length, so that consecutive names cannot run into each other.
+Fingerprint& add_name(Fingerprint& f, const std::string& name) { return f.add(name.size()).add(name); }
 
 const char* const kLoopGroup = "loop";
 const char* const kFingerprintGroup = "fingerprint";
@@ -52,57 +40,33 @@ const char* const kFingerprintGroup = "fingerprint";
 
 std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& model) {
   std::vector<std::pair<std::string, int64_t>> sections;
-  sections.emplace_back("mesh", Fingerprint().add(flatten(model.nodes)).add(model.triangles).value());
-  sections.emplace_back("boundary conditions", Fingerprint()
-                                                   .add(model.fixed_nodes)
-                                                   .add(model.roller_nodes)
-                                                   .add(flatten(model.roller_normals))
-                                                   .value());
-  sections.emplace_back("particles", Fingerprint()
-                                         .add(flatten(model.position))
-                                         .add(flatten(model.velocity))
-                                         .add(model.mass)
-                                         .add(model.volume)
-                                         .add(model.body)
-                                         .add(model.element)
-                                         .value());
-  sections.emplace_back("initial stress", Fingerprint().add(flatten(model.stress)).value());
+  sections.emplace_back("mesh", stored(Fingerprint().add(model.nodes).add(model.triangles)));
+  sections.emplace_back("boundary conditions",
+                        stored(Fingerprint().add(model.fixed_nodes).add(model.roller_nodes).add(model.roller_normals)));
+  sections.emplace_back("particles", stored(Fingerprint()
+                                                .add(model.position)
+                                                .add(model.velocity)
+                                                .add(model.mass)
+                                                .add(model.volume)
+                                                .add(model.body)
+                                                .add(model.element)));
+  sections.emplace_back("initial stress", stored(Fingerprint().add(model.stress)));
   Fingerprint bodies;
-  for (const auto& body : model.bodies) bodies.add(body.name).add(body.material).add(body.fixed);
-  sections.emplace_back("bodies", bodies.value());
-  for (const auto& m : model.materials)
-    sections.emplace_back("materials." + m.name, Fingerprint()
-                                                     .add(static_cast<int>(m.model))
-                                                     .add(m.density)
-                                                     .add(m.youngs_modulus)
-                                                     .add(m.poisson_ratio)
-                                                     .add(m.friction_angle)
-                                                     .add(m.cohesion)
-                                                     .add(m.dilation_angle)
-                                                     .add(m.tensile_strength)
-                                                     .value());
+  for (const auto& body : model.bodies) add_name(bodies, body.name).add(body.material).add(body.fixed);
+  sections.emplace_back("bodies", stored(bodies));
+  for (const auto& m : model.materials) {
+    Fingerprint material;
+    material.add(static_cast<int>(m.model));
+    for_each_material_parameter(m, [&](const char*, const auto& value) { add_setting(material, value); });
+    sections.emplace_back("materials." + m.name, stored(material));
+  }
   Fingerprint contact;
   contact.add(model.contact.enabled).add(model.contact.friction);
-  for (const auto& pair : model.contact.pairs) contact.add(pair.body_a).add(pair.body_b).add(pair.friction);
-  sections.emplace_back("contact", contact.value());
-  const RunSettings& r = model.run;
-  sections.emplace_back("run settings", Fingerprint()
-                                            .add(r.end_time)
-                                            .add(r.cfl)
-                                            .add(r.output_interval)
-                                            .add(r.gravity.x())
-                                            .add(r.gravity.y())
-                                            .add(r.gravity_ramp)
-                                            .add(r.damping)
-                                            .add(r.evs)
-                                            .add(static_cast<int>(r.transfer))
-                                            .add(r.pic_fraction)
-                                            .add(r.xpic_order)
-                                            .add(r.history_interval)
-                                            .add(r.rest_ratio)
-                                            .add(r.rest_window)
-                                            .add(r.max_steps)
-                                            .value());
+  for (const auto& pair : model.contact.pairs) add_name(add_name(contact, pair.body_a), pair.body_b).add(pair.friction);
+  sections.emplace_back("contact", stored(contact));
+  Fingerprint run;
+  for_each_run_setting(model.run, [&](const char*, const auto& value) { add_setting(run, value); });
+  sections.emplace_back("run settings", stored(run));
   return sections;
 }
 
@@ -200,7 +164,7 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
       throw Error(located(path, "moving_count", "particles of fixed bodies must come after all the others"));
   }
   sim.particles = std::move(P);
-  compute_stencil(sim.config.mesh, sim.particles, 0, n, sim.scratch.stencil);
+  compute_stencil(sim.config.mesh, sim.particles, 0, n, sim.scratch.stencil, sim.config.threads);
   sim.time = h5::get_double(file, "/", "time");
   sim.steps = static_cast<long>(h5::get_int(file, "/", "steps"));
   if (!std::isfinite(sim.time) || sim.time < 0 || sim.steps < 0)
@@ -213,6 +177,8 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
   loop.rest_since = h5::get_double(file, kLoopGroup, "rest_since");
   loop.budget = h5::get_double(file, kLoopGroup, "budget");
   loop.budget_limit = h5::get_double(file, kLoopGroup, "budget_limit");
+  if (!std::isfinite(loop.next_output) || !(loop.next_output > sim.time) || !(loop.next_checkpoint > sim.time))
+    throw Error(located(path, "loop@next_output, loop@next_checkpoint", "not ahead of the checkpoint's time"));
   results.frames = static_cast<long>(h5::get_int(file, kLoopGroup, "results_frames"));
   results.history_rows = static_cast<long>(h5::get_int(file, kLoopGroup, "results_history_rows"));
 }

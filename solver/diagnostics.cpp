@@ -71,8 +71,9 @@ std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
 #pragma omp parallel for schedule(static) num_threads(sim.config.threads)
   for (long p = 0; p < moving; ++p) {
     const Grid& grid = grids.fields[grids.field_of(P.body[p])];
-    const std::size_t r = S.row(p);
-    for (int k = 0; k < S.width; ++k) velocity[p] += S.N[r + k] * grid.v[S.node[r + k]];
+    const double* N = S.weights(p);
+    const int32_t* nodes = S.nodes(p);
+    for (int k = 0; k < S.width; ++k) velocity[p] += N[k] * grid.v[nodes[k]];
   }
   return velocity;
 }

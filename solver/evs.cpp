@@ -51,9 +51,9 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
   const int W = S.width;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
-    const std::size_t r = S.row(p);
+    const int32_t* nodes = S.nodes(p);
     double smoothed = 0;
-    for (int k = 0; k < W; ++k) smoothed += evs.node_strain[S.node[r + k]] / evs.node_area[S.node[r + k]];
+    for (int k = 0; k < W; ++k) smoothed += evs.node_strain[nodes[k]] / evs.node_area[nodes[k]];
     smoothed /= W;
     Vec4& d = d_eps[p];
     const double correction = 0.5 * (smoothed - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0

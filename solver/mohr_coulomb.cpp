@@ -16,6 +16,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "common/material.hpp"
 
 namespace talus {
 namespace {
@@ -156,19 +157,17 @@ void return_to_tension_cutoff(const MohrCoulombParams& p, double s[3], double e_
 MohrCoulombParams MohrCoulombParams::from(double youngs_modulus, double poisson_ratio,
                                           double friction_angle_deg, double cohesion,
                                           double dilation_angle_deg, double tensile_strength) {
-  auto require = [](bool ok, const std::string& message) {
-    if (!ok) throw Error("Mohr-Coulomb material: " + message);
-  };
-  require(youngs_modulus > 0, "youngs_modulus must be > 0, got " + std::to_string(youngs_modulus));
-  // nu >= 0 keeps lambda >= 0, which the sequential tension cut-off relies on (header).
-  require(poisson_ratio >= 0 && poisson_ratio < 0.5,
-          "poisson_ratio must be in [0, 0.5), got " + std::to_string(poisson_ratio));
-  require(friction_angle_deg >= 0 && friction_angle_deg < 90,
-          "friction_angle must be in [0, 90) degrees, got " + std::to_string(friction_angle_deg));
-  require(dilation_angle_deg >= 0 && dilation_angle_deg <= friction_angle_deg,
-          "dilation_angle must be in [0, friction_angle] degrees, got " +
-              std::to_string(dilation_angle_deg));
-  require(cohesion >= 0, "cohesion must be >= 0, got " + std::to_string(cohesion));
+  // A guard by the ranges of the material check (common/material.hpp). nu >= 0 keeps
+  // lambda >= 0, which the sequential tension cut-off relies on (header).
+  Material material;
+  material.youngs_modulus = youngs_modulus;
+  material.poisson_ratio = poisson_ratio;
+  material.friction_angle = friction_angle_deg;
+  material.cohesion = cohesion;
+  material.dilation_angle = dilation_angle_deg;
+  for (const char* key : {"youngs_modulus", "poisson_ratio", "friction_angle", "dilation_angle", "cohesion"})
+    if (const auto problem = parameter_problem(material, key))
+      throw Error("Mohr-Coulomb material: " + problem->key + ": " + problem->message);
 
   MohrCoulombParams p;
   p.shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio));

@@ -1,35 +1,70 @@
 #include "solver/results.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <sys/stat.h>
 
+#include <filesystem>
+#include <sstream>
+#include <tuple>
+
+#include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/model_io.hpp"
 #include "solver/particle_io.hpp"
 
 namespace talus::solver {
+namespace {
+
+// The device and inode of `path`; zeros when it does not exist.
+std::pair<unsigned long long, unsigned long long> identity(const std::string& path) {
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) return {0, 0};
+  return {static_cast<unsigned long long>(info.st_dev), static_cast<unsigned long long>(info.st_ino)};
+}
+
+}  // namespace
+
+template <class Write>
+void ResultsWriter::guarded(Write&& write) {
+  try {
+    write();
+  } catch (const Error& error) {
+    if (identity(path_) != std::make_pair(device_, inode_)) throw;  // not ours to remove
+    try {
+      file_.close();
+    } catch (const Error&) {  // the close fails too: the file is being removed
+    }
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+    std::filesystem::remove(xdmf_path_, ignored);
+    throw Error(std::string(error.what()) + "; removed " + path_ + " and results.xdmf (a file whose write failed " +
+                "cannot be read)");
+  }
+}
+
+void ResultsWriter::check_still_there() const {
+  const auto now = identity(path_);
+  if (now == std::make_pair(device_, inode_)) return;
+  std::error_code ignored;  // it describes the frames of the file that is gone
+  std::filesystem::remove(xdmf_path_, ignored);
+  throw Error(located(path_, "", std::string(now.second == 0 ? "deleted" : "replaced by another file") +
+                                     " while the solve was writing it: " + std::to_string(frames()) +
+                                     " frames went into a file that is gone; stopped (solve again)"));
+}
 
 ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
     : path_((std::filesystem::path(out_dir) / "results.h5").string()),
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
       file_(h5::File::create(path_)) {
-  write_format_tag(file_, "talus-results", kResultsFormatVersion);
-  write_metadata(file_, model);
-  const hsize_t n = particles_;
-  std::vector<double> flat;
-  for (const auto& x : model.position) flat.insert(flat.end(), {x.x(), x.y()});
-  h5::write(file_, "particles/initial_position", flat, {n, 2});
-  h5::write(file_, "particles/body", model.body, {n});
-  h5::write(file_, "particles/mass", model.mass, {n});
-  h5::write(file_, "particles/volume", model.volume, {n});
-  open_datasets(0, 0, true);
-  h5::set_attribute(file_, "/", "particles", static_cast<int64_t>(n));
-  h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
-  h5::set_attribute(file_, "/", "loop_seconds", 0.0);
-  h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
-  file_.flush();
+  std::tie(device_, inode_) = identity(path_);
+  guarded([&] {
+    write_results_start(file_, model, model.position, model.body, model.mass, model.volume);
+    open_datasets(0, 0, true);
+    h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
+    h5::set_attribute(file_, "/", "loop_seconds", 0.0);
+    h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
+    file_.flush();
+  });
 }
 
 namespace {
@@ -49,6 +84,7 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
       file_(open_existing(path_)) {
+  std::tie(device_, inode_) = identity(path_);
   if (h5::get_int(file_, "/", "particles") != static_cast<int64_t>(particles_))
     throw Error(located(path_, "particles", "written for a model of another particle count"));
   if (resume.frames < 1 || resume.history_rows < 0)
@@ -107,12 +143,20 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
 }
 
 ResultsPosition ResultsWriter::sync() {
-  flush_history();
-  file_.flush();
+  check_still_there();
+  guarded([&] {
+    flush_history();
+    file_.flush();
+  });
   return {frames(), static_cast<long>(history_time_.size())};
 }
 
 void ResultsWriter::write_frame(const Simulation& sim) {
+  check_still_there();
+  guarded([&] { write_frame_data(sim); });
+}
+
+void ResultsWriter::write_frame_data(const Simulation& sim) {
   const Particles& P = sim.particles;
   const std::size_t n = particles_;
   // Frames are in the model's particle order (the solver keeps its own, sorted, order).
@@ -159,22 +203,23 @@ void ResultsWriter::flush_history() {
 }
 
 void ResultsWriter::finish(long steps, double loop_seconds, bool complete) {
-  flush_history();
-  h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(steps));
-  h5::set_attribute(file_, "/", "loop_seconds", loop_seconds);
-  h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(complete));
-  file_.flush();
-  file_.close();
-  write_xdmf();
+  check_still_there();
+  guarded([&] {
+    flush_history();
+    h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(steps));
+    h5::set_attribute(file_, "/", "loop_seconds", loop_seconds);
+    h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(complete));
+    file_.flush();
+    file_.close();
+    write_xdmf();
+  });
 }
 
 void ResultsWriter::write_xdmf() const {
   // A temporal collection of polyvertex grids whose data are hyperslabs of the frame datasets.
   const std::string h5_name = std::filesystem::path(path_).filename().string();
   const std::size_t n = particles_;
-  const std::string temporary = xdmf_path_ + ".tmp";
-  {
-    std::ofstream out(temporary);
+  write_stream_atomically(xdmf_path_, [&](std::ostream& out) {
     out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
         << "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     auto slab = [&](std::size_t frame, const std::string& set, int width, int component) {
@@ -205,8 +250,7 @@ void ResultsWriter::write_xdmf() const {
       out << "</Grid>\n";
     }
     out << "</Grid>\n</Domain>\n</Xdmf>\n";
-  }
-  std::filesystem::rename(temporary, xdmf_path_);
+  });
 }
 
 }  // namespace talus::solver

@@ -1,7 +1,9 @@
 // Writes results.h5 frame by frame, flushing each, so that a run stopped midway leaves a
 // readable file with the frames so far; keeps results.xdmf beside it in step. The frame
 // datasets are the particle fields the registry marks as written (particles.hpp) plus the
-// velocity that moves each particle.
+// velocity that moves each particle. Every write is checked: a failed one removes results.h5
+// and results.xdmf (unreadable by then) and stops the run, and so does results.h5 deleted or
+// replaced while the run writes it.
 #pragma once
 #include <string>
 #include <vector>
@@ -38,6 +40,13 @@ class ResultsWriter {
   long frames() const { return static_cast<long>(time_.size()); }
 
  private:
+  // Runs `write`; when it fails (a full disk, a file size limit), removes results.h5 and
+  // results.xdmf, which a failed write leaves unreadable, and throws the error saying so.
+  template <class Write>
+  void guarded(Write&& write);
+  // Throws when results.h5 is no longer the file this writer writes (deleted or replaced).
+  void check_still_there() const;
+  void write_frame_data(const Simulation& sim);
   void flush_history();
   void write_xdmf() const;
   void open_datasets(hsize_t frames, hsize_t history_rows, bool fresh);
@@ -49,6 +58,7 @@ class ResultsWriter {
     h5::Appendable data;
   };
   std::string path_, xdmf_path_;
+  unsigned long long device_ = 0, inode_ = 0;  // of results.h5 when this writer opened it
   std::size_t particles_;
   h5::File file_;
   h5::Appendable time_set_;

@@ -82,7 +82,7 @@ Simulation make_simulation(const Model& model, int threads) {
     config.body_fixed.push_back(body.fixed);
   }
   sim.particles = particles_of(model, config);
-  reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, sim.particles.size());
+  reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, config.mesh, sim.particles.size());
   sort_particles(sim);
   sim.reorders = 0;
 
@@ -99,7 +99,7 @@ Simulation make_simulation(const Model& model, int threads) {
     const Particles& P = sim.particles;
     const Stencil& S = sim.scratch.stencil;
     for (std::size_t p = P.moving_count; p < P.size(); ++p)
-      for (int k = 0; k < S.width; ++k) config.constraints.kind[S.node[S.row(p) + k]] = Constraint::Fixed;
+      for (int k = 0; k < S.width; ++k) config.constraints.kind[S.nodes(p)[k]] = Constraint::Fixed;
   }
 
   Scratch& scratch = sim.scratch;
@@ -158,21 +158,33 @@ void sort_particles(Simulation& sim) {
   permute_particles(P, order);
   P.moving_count = 0;
   while (P.moving_count < n && !fixed[P.body[P.moving_count]]) ++P.moving_count;
-  compute_stencil(sim.config.mesh, P, 0, n, sim.scratch.stencil);
+  compute_stencil(sim.config.mesh, P, 0, n, sim.scratch.stencil, sim.config.threads);
   ++sim.reorders;
 }
 
-void reset_stencil(Stencil& stencil, ShapeFamily family, std::size_t particles) {
+void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles) {
   stencil.family = family;
   stencil.width = 3;
-  stencil.node.assign(particles * stencil.width, 0);
   stencil.N.assign(particles * stencil.width, 0);
-  stencil.dN.assign(particles * stencil.width, Vec2::Zero());
+  stencil.row.assign(particles, 0);
+  // Linear triangles: row e holds element e's nodes and the gradients of their shape functions.
+  stencil.row_node.resize(mesh.element_count() * stencil.width);
+  stencil.row_dN.resize(mesh.element_count() * stencil.width);
+  for (std::size_t e = 0; e < mesh.element_count(); ++e)
+    for (int k = 0; k < 3; ++k) {
+      stencil.row_node[e * 3 + k] = mesh.triangles[e][k];
+      stencil.row_dN[e * 3 + k] = mesh.gradient(static_cast<int32_t>(e), k);
+    }
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
-                     Stencil& stencil) {
-  for (std::size_t p = begin; p < end; ++p) compute_stencil_row(mesh, particles.x[p], particles.element[p], p, stencil);
+                     Stencil& stencil, int threads) {
+  const long first = static_cast<long>(begin), last = static_cast<long>(end);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long p = first; p < last; ++p) {
+    const int32_t e = particles.element[p];
+    compute_stencil_row(mesh.weights(e, particles.x[p]), e, p, stencil);
+  }
 }
 
 }  // namespace talus::solver

@@ -7,6 +7,14 @@
 
 namespace talus::solver {
 
+double next_multiple_after(double time, double interval, double tolerance) {
+  const double now = time + tolerance;
+  const double k = std::floor(now / interval) + 1;
+  if (k * interval > now) return k * interval;
+  if ((k + 1) * interval > now) return (k + 1) * interval;  // round-off in the division
+  return std::nextafter(now, kNever);  // k beyond 2^53: the interval no longer moves the time
+}
+
 Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
   if (due(sim)) write(sim);
   return Verdict::go_on();
@@ -15,7 +23,7 @@ Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
 void FrameWriter::write(const Simulation& sim) {
   writer_.write_frame(sim);
   last_step_ = sim.steps;
-  while (loop_.next_output <= sim.time + tolerance_) loop_.next_output += interval_;
+  loop_.next_output = next_multiple_after(sim.time, interval_, tolerance_);
 }
 
 Verdict HistoryRecorder::after_step(Simulation& sim, const StepEvent& event) {
@@ -63,12 +71,12 @@ Checkpointer::Checkpointer(const std::string& out_dir, const Model& model, Resul
                            double interval, double tolerance, double time)
     : out_dir_(out_dir), model_(model), writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {
   // Periodic checkpoints at multiples of the interval; they change what is on disk, not the run.
-  loop_.next_checkpoint = interval > 0 ? interval * (std::floor(time / interval) + 1) : kNever;
+  loop_.next_checkpoint = interval > 0 ? next_multiple_after(time, interval, 0) : kNever;
 }
 
 Verdict Checkpointer::after_step(Simulation& sim, const StepEvent&) {
   if (sim.time >= loop_.next_checkpoint - tolerance_) {
-    while (loop_.next_checkpoint <= sim.time + tolerance_) loop_.next_checkpoint += interval_;
+    loop_.next_checkpoint = next_multiple_after(sim.time, interval_, tolerance_);
     write(sim);
   }
   return Verdict::go_on();

@@ -13,6 +13,11 @@
 
 namespace talus::solver {
 
+// The first multiple k x interval (k = floor(t / interval) + 1, k integer) beyond time +
+// tolerance: computed, not summed, so no interval is too small to move it on (when k x
+// interval cannot exceed time + tolerance in doubles, the next double beyond it).
+double next_multiple_after(double time, double interval, double tolerance);
+
 // Writes a frame at every multiple of the output interval, landing the step on it.
 class FrameWriter : public Observer {
  public:

@@ -53,6 +53,13 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw Error("--checkpoint-interval: expected a finite time >= 0 s");
   const RunSettings& run = model.run;
+  if (options.checkpoint_interval > 0 && run.end_time / options.checkpoint_interval > kMaxFrames) {
+    std::ostringstream message;
+    message << "--checkpoint-interval: got " << options.checkpoint_interval << " s: "
+            << run.end_time / options.checkpoint_interval << " checkpoints over run.end_time = " << run.end_time
+            << " s, at most " << kMaxFrames << " (raise --checkpoint-interval)";
+    throw Error(message.str());
+  }
   StopSignals stop_signals;
   Simulation sim = make_simulation(model, options.threads > 0 ? options.threads : omp_get_max_threads());
   LoopState loop;

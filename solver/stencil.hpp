@@ -3,12 +3,18 @@
 // after set-up and sorting), and every phase of the step, contact and EVS read only it: a new
 // shape-function family is a new way to fill it, not a change to the phases.
 //
-// Row p holds `width` entries. A family whose particles touch fewer nodes than its width pads
-// the row with weight 0 and gradient 0 on one of the particle's own nodes, which adds nothing
-// anywhere. The particle's cell (the element that contains it, Particles::element) stays with
+// Each particle has `width` entries: weights of its own, and node ids and gradients that are a
+// row of tables that particles may share (nodes(p) and gradients(p) point at row[p]'s). For
+// linear triangles the nodes and the gradients are those of the element, so the tables have
+// one row per element, built once, and a particle's row is its element: per particle only the
+// weights and the row are stored. A family whose nodes or gradients differ per particle (CPDI)
+// keeps one row per particle and refills it with the weights. A family whose particles touch
+// fewer nodes than its width pads a row with weight 0 and gradient 0 on one of the particle's
+// own nodes, which adds nothing anywhere. The particle's cell (the element that contains it, Particles::element) stays with
 // the particles: relocation finds it, and EVS averages over cells.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "solver/mesh.hpp"
@@ -22,33 +28,49 @@ enum class ShapeFamily {
 
 struct Stencil {
   ShapeFamily family = ShapeFamily::LinearTriangle;
-  int width = 3;                // entries per particle
-  std::vector<int32_t> node;    // [p * width + k]
-  std::vector<double> N;        // N_ip
-  std::vector<Vec2> dN;         // grad N_ip (1/m)
+  int width = 3;                  // entries per particle
+  std::vector<double> N;          // N_ip, [p * width + k]
+  std::vector<int32_t> row;       // [p]: p's row of the shared tables
+  std::vector<int32_t> row_node;  // node ids, [row * width + k]
+  std::vector<Vec2> row_dN;       // grad N_ip (1/m), [row * width + k]
 
-  // Entries of particle p start here.
-  std::size_t row(std::size_t p) const { return p * static_cast<std::size_t>(width); }
+  // The `width` weights, node ids and gradients of particle p, in the order of its entries.
+  const double* weights(std::size_t p) const { return N.data() + p * static_cast<std::size_t>(width); }
+  const int32_t* nodes(std::size_t p) const { return row_node.data() + offset(p); }
+  const Vec2* gradients(std::size_t p) const { return row_dN.data() + offset(p); }
+
+ private:
+  std::size_t offset(std::size_t p) const {
+    return static_cast<std::size_t>(row[p]) * static_cast<std::size_t>(width);
+  }
 };
 
-// Sizes the stencil for `particles` particles of the family.
-void reset_stencil(Stencil& stencil, ShapeFamily family, std::size_t particles);
-
-// Fills rows [begin, end) from the particles' positions and elements.
-void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
-                     Stencil& stencil);
-
-// Fills row p only: the relocation loop calls it for each particle it has just located.
-inline void compute_stencil_row(const Mesh& mesh, const Vec2& x, int32_t element, std::size_t p, Stencil& stencil) {
-  // LinearTriangle is the only family so far; a second one switches on stencil.family here.
-  const std::size_t r = stencil.row(p);
-  const auto& nodes = mesh.triangles[element];
-  const Vec3 w = mesh.weights(element, x);
-  for (int k = 0; k < 3; ++k) {
-    stencil.node[r + k] = nodes[k];
-    stencil.N[r + k] = w[k];
-    stencil.dN[r + k] = mesh.gradient(element, k);
+// Calls body(W) with the stencil's width W as a compile-time constant for the widths of the
+// families so far (std::integral_constant, usable as an int), else as a plain int: the phases'
+// loops over a particle's entries then unroll.
+template <class Body>
+void with_width(const Stencil& stencil, Body&& body) {
+  switch (stencil.width) {
+    case 3: body(std::integral_constant<int, 3>{}); return;
+    default: body(stencil.width); return;
   }
+}
+
+// Sizes the stencil for `particles` particles of the family on `mesh` (and fills the shared
+// gradient table where the family has one).
+void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles);
+
+// Fills the entries of particles [begin, end) from their positions and elements.
+void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
+                     Stencil& stencil, int threads = 1);
+
+// Fills particle p's entries: the relocation loop calls it for each particle it has just
+// located in `element`, with the element's barycentric weights at the particle (locate's).
+inline void compute_stencil_row(const Vec3& weights, int32_t element, std::size_t p, Stencil& stencil) {
+  // LinearTriangle is the only family so far; a second one switches on stencil.family here.
+  double* N = stencil.N.data() + p * 3;
+  for (int k = 0; k < 3; ++k) N[k] = weights[k];
+  stencil.row[p] = element;  // the element's row of the tables reset_stencil built
 }
 
 }  // namespace talus::solver

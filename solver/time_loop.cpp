@@ -22,6 +22,12 @@ LoopEnd run_time_loop(Simulation& sim, double cfl, double end_time, const std::v
     double landing = kNever;
     for (const Observer* o : observers) landing = std::min(landing, o->next_landing(sim));
     dt = std::min(dt, landing - sim.time);
+    if (!(dt > 0)) {  // an observer landing at or before now would make the loop spin in place
+      std::ostringstream why;
+      why << "no time step left at t = " << sim.time << " s: the next output or checkpoint time, " << landing
+          << " s, is not ahead of it";
+      return {LoopEnd::BadTimeStep, why.str()};
+    }
     if (!step(sim, dt)) return {LoopEnd::StepFailed, ""};
 
     bool energies_due = false;

@@ -1,11 +1,13 @@
-// Bishop's simplified method against published slopes, and its circle search against a finer
-// brute-force grid.
+// Bishop's simplified method against published slopes and closed forms, its slice model, and
+// its search on the default slope (issue 21). The search against brute force over many circles:
+// postproc_bishop_search_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
 #include "postproc/bishop.hpp"
+#include "postproc/bishop_json.hpp"
 
 namespace talus::postproc {
 namespace {
@@ -49,17 +51,101 @@ TEST(Bishop, AcadsSimpleSlopeCriticalCircle) {
   EXPECT_LT(critical->x_entry, 20);
 }
 
-TEST(Bishop, SearchIsNoWorseThanAFinerGrid) {
-  const SoilStrength soil{3e3, 19.6, 20e3};
-  const SlopeProfile profile = acads_simple_slope();
-  const auto search = bishop_search(profile, soil);
-  BishopSearchSettings fine;
-  fine.centres_x = fine.centres_y = fine.radii = 64;
-  fine.refine_from = 0;
-  const auto grid = bishop_search(profile, soil, fine);
-  ASSERT_TRUE(search && grid);
-  EXPECT_LE(search->factor_of_safety, 1.01 * grid->factor_of_safety);
-  std::printf("search F = %.4f, 64^3 grid F = %.4f\n", search->factor_of_safety, grid->factor_of_safety);
+// Issue 21: the default slope (geometries/slope.geo: 5 m at 50 deg, the body ending at the toe
+// on the rigid base; c = 1 kPa, phi = 30 deg, rho = 1800 kg/m^3). The old search stopped at
+// F = 0.726 for the circle centred at (13.15, 7.05) m; the circle through the toe centred at
+// (15.38, 9.51) m, whose lowest point lies beyond the toe where there is no soil, has F = 0.712.
+SlopeProfile default_slope() {
+  const double toe = 6 + 5 / std::tan(50 * M_PI / 180);
+  return slope_profile({{0, 0}, {toe, 0}, {6, 5}, {0, 5}});
+}
+const SoilStrength kDefaultSand{1000, 30, 1800 * 9.81};
+
+TEST(Bishop, ToeCircleBeyondTheBodysCornerIsAdmissible) {
+  const SlopeProfile profile = default_slope();
+  const Eigen::Vector2d centre(15.38, 9.51);
+  const auto through_toe = bishop_factor_of_safety(profile, kDefaultSand, {centre, (centre - profile.toe).norm()});
+  ASSERT_TRUE(through_toe);
+  EXPECT_NEAR(through_toe->x_exit, profile.toe.x(), 1e-6);
+  EXPECT_EQ(through_toe->kind, CircleKind::Toe);
+  EXPECT_FALSE(through_toe->tangent_to_base);  // it crosses the base level at the toe
+  EXPECT_NEAR(through_toe->factor_of_safety, 0.712, 0.0005);
+}
+
+TEST(Bishop, SearchFindsTheDefaultSlopesToeCircle) {
+  const SlopeProfile profile = default_slope();
+  const auto critical = bishop_search(profile, kDefaultSand);
+  ASSERT_TRUE(critical);
+  std::printf("default slope: F = %.4f, centre (%.2f, %.2f) m, R = %.2f m, entry x = %.2f m, %s circle, %ld circles\n",
+              critical->factor_of_safety, critical->circle.centre.x(), critical->circle.centre.y(),
+              critical->circle.radius, critical->x_entry, to_string(critical->kind), critical->circles_evaluated);
+  EXPECT_LE(critical->factor_of_safety, 0.713);
+  EXPECT_EQ(critical->kind, CircleKind::Toe);
+  EXPECT_EQ(critical->x_exit, profile.toe.x());  // reached exactly: the end of the exits' range
+  EXPECT_GT(critical->circle.centre.x(), profile.toe.x());
+  EXPECT_LT(critical->x_entry, profile.crest.x());
+  EXPECT_NEAR(critical->y_entry, 5, 1e-12);
+  EXPECT_GT(critical->circles_evaluated, 1000);
+}
+
+// The method takes the ground from a SliceModel. F depends on c / (gamma H), so a ground twice as
+// heavy and twice as cohesive has the same F; pore pressure lowers F where there is friction
+// and does nothing where there is none.
+class PorePressureRatio final : public SliceModel {
+ public:
+  PorePressureRatio(const SoilStrength& soil, double scale, double r_u) : soil_(soil), scale_(scale), r_u_(r_u) {}
+  SliceForces forces(const Slice& s) const override {
+    const double weight = scale_ * soil_.unit_weight * s.width * (s.top - s.bottom);
+    return {weight, scale_ * soil_.cohesion, std::tan(soil_.friction_angle * M_PI / 180),
+            r_u_ * scale_ * soil_.unit_weight * (s.top - s.bottom)};
+  }
+
+ private:
+  SoilStrength soil_;
+  double scale_, r_u_;
+};
+
+TEST(Bishop, SliceModelSetsWeightStrengthAndPorePressure) {
+  const SlopeProfile profile = default_slope();
+  const Circle circle{{15.38, 9.51}, (Eigen::Vector2d(15.38, 9.51) - profile.toe).norm()};
+  const double dry = bishop_factor_of_safety(profile, kDefaultSand, circle)->factor_of_safety;
+  EXPECT_NEAR(bishop_factor_of_safety(profile, PorePressureRatio(kDefaultSand, 2, 0), circle)->factor_of_safety, dry,
+              1e-9 * dry);
+  const double wet = bishop_factor_of_safety(profile, PorePressureRatio(kDefaultSand, 1, 0.3), circle)->factor_of_safety;
+  EXPECT_LT(wet, 0.85 * dry);
+  const SoilStrength clay{20e3, 0, 18e3};
+  EXPECT_NEAR(bishop_factor_of_safety(profile, PorePressureRatio(clay, 1, 0.3), circle)->factor_of_safety,
+              bishop_factor_of_safety(profile, clay, circle)->factor_of_safety, 1e-9);
+  // The search runs on the same model and finds a circle no worse than this one.
+  const auto wet_search = bishop_search(profile, PorePressureRatio(kDefaultSand, 1, 0.3));
+  ASSERT_TRUE(wet_search);
+  EXPECT_LE(wet_search->factor_of_safety, wet);
+}
+
+// metrics.json and fos.json carry the same Bishop keys; a slope that descends to the left is
+// searched mirrored, and its entry stays the uphill end.
+TEST(Bishop, JsonKeysAndTheMirroredFrame) {
+  const auto critical = bishop_search(default_slope(), kDefaultSand);
+  ASSERT_TRUE(critical);
+  const BishopResult left = mirrored(*critical, Mirror{true});
+  EXPECT_EQ(left.circle.centre.x(), -critical->circle.centre.x());
+  EXPECT_EQ(left.x_entry, -critical->x_entry);
+  EXPECT_GT(left.x_entry, left.x_exit);
+  JsonWriter json;
+  json.begin_object();
+  write_bishop_keys(json, left);
+  json.end_object();
+  const std::string& text = json.text();
+  for (const char* key : {"\"bishop_fos\": 0.712", "\"bishop_circle\": {", "\"bishop_entry_m\": [-5.57",
+                          "\"bishop_exit_m\": [-10.195", "\"bishop_circle_kind\": \"toe\"",
+                          "\"bishop_tangent_to_base\": false", "\"bishop_circles_evaluated\": "})
+    EXPECT_NE(text.find(key), std::string::npos) << key << " in\n" << text;
+  JsonWriter none;
+  none.begin_object();
+  write_bishop_keys(none, std::nullopt);
+  none.end_object();
+  EXPECT_NE(none.text().find("\"bishop_fos\": null"), std::string::npos) << none.text();
+  EXPECT_NE(none.text().find("\"bishop_circles_evaluated\": null"), std::string::npos) << none.text();
 }
 
 TEST(Bishop, RejectsCirclesThatLeaveTheBody) {

@@ -13,6 +13,7 @@
 #include "postproc/output.hpp"
 #include "postproc/postproc.hpp"
 #include "postproc/results.hpp"
+#include "support/test_support.hpp"
 #include "postproc/runout.hpp"
 #include "support/test_support.hpp"
 
@@ -31,14 +32,8 @@ Model slope_metadata(const Polyline& outline) {
   body.name = "slope";
   body.loops = {outline};
   model.bodies = {body};
-  Material sand;
+  Material sand = testing::mohr_coulomb(1800, 1e7, 0.3, 30, 1e3);
   sand.name = "sand";
-  sand.model = MaterialModel::MohrCoulomb;
-  sand.density = 1800;
-  sand.youngs_modulus = 1e7;
-  sand.poisson_ratio = 0.3;
-  sand.friction_angle = 30;
-  sand.cohesion = 1e3;
   model.materials = {sand};
   model.post.metrics = {"runout", "failure_surface", "bishop"};
   model.post.body = "slope";

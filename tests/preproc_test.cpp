@@ -1,15 +1,14 @@
 // The preprocessor: the three scenes mesh and seed correctly (checked with geometry written
-// here, independent of the CGAL code under test), holes, disjoint bodies and every seeding
-// pattern behave, boundary conditions resolve per node, and bad input stops `talus mesh` with
-// one message that names the file and the item, leaving no model.h5 behind.
+// independently of the CGAL code under test, support/preproc_checks.hpp), loops and boundary
+// conditions resolve on hand-made input, and bad input stops `talus mesh` with one message that
+// names the file and the item, leaving no model.h5 behind. Seeding on scenes written here:
+// preproc_seeding_test.cpp.
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <map>
 #include <numbers>
 #include <set>
 
@@ -19,110 +18,20 @@
 #include "preproc/boundary_conditions.hpp"
 #include "preproc/polygon.hpp"
 #include "preproc/preproc.hpp"
-#include "preproc/seeding.hpp"
+#include "support/preproc_checks.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
 namespace {
 
+using testing::body_of;
+using testing::expect_valid_mesh;
+using testing::expect_valid_particles;
+using testing::mesh_scene;
+using testing::Meshed;
 using testing::ScratchDir;
-using Loops = std::vector<std::vector<Eigen::Vector2d>>;
-
-// ---------------------------------------------------------------------------------------------
-// Geometry written independently of preproc/polygon.cpp.
-
-// Even-odd rule by ray casting along +x: a crossing of any loop edge flips the parity.
-bool inside(const Loops& loops, const Eigen::Vector2d& p) {
-  bool odd = false;
-  for (const auto& loop : loops)
-    for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-      const Eigen::Vector2d& a = loop[i];
-      const Eigen::Vector2d& b = loop[j];
-      if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()))
-        odd = !odd;
-    }
-  return odd;
-}
-
-double twice_signed_area(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-}
-
-Eigen::Vector3d barycentric(const Model& model, int32_t e, const Eigen::Vector2d& p) {
-  const auto& t = model.triangles[e];
-  const Eigen::Vector2d a = model.nodes[t[0]], b = model.nodes[t[1]], c = model.nodes[t[2]];
-  const double whole = twice_signed_area(a, b, c);
-  return {twice_signed_area(p, b, c) / whole, twice_signed_area(a, p, c) / whole, twice_signed_area(a, b, p) / whole};
-}
-
-double triangle_area(const Model& model, int32_t e) {
-  const auto& t = model.triangles[e];
-  return 0.5 * twice_signed_area(model.nodes[t[0]], model.nodes[t[1]], model.nodes[t[2]]);
-}
-
-int body_of(const Model& model, const std::string& name) {
-  for (std::size_t b = 0; b < model.bodies.size(); ++b)
-    if (model.bodies[b].name == name) return static_cast<int>(b);
-  ADD_FAILURE() << "no body " << name;
-  return -1;
-}
-
-// Mesh invariants that any Model written by `talus mesh` must satisfy.
-void expect_valid_mesh(const Model& model) {
-  std::vector<bool> used(model.nodes.size(), false);
-  for (std::size_t e = 0; e < model.triangles.size(); ++e) {
-    EXPECT_GT(triangle_area(model, static_cast<int32_t>(e)), 0) << "triangle " << e << " is not counter-clockwise";
-    for (int32_t v : model.triangles[e]) used[v] = true;
-    for (int k = 0; k < 3; ++k) {
-      const int32_t n = model.neighbours[e][k];
-      if (n < 0) continue;
-      // The neighbour across the edge opposite vertex k lists e back, across the same edge.
-      const auto& back = model.neighbours[n];
-      const int kb = static_cast<int>(std::find(back.begin(), back.end(), static_cast<int32_t>(e)) - back.begin());
-      ASSERT_LT(kb, 3) << "neighbours of " << e << " and " << n << " are not symmetric";
-      const std::set<int32_t> edge{model.triangles[e][(k + 1) % 3], model.triangles[e][(k + 2) % 3]};
-      const std::set<int32_t> edge_back{model.triangles[n][(kb + 1) % 3], model.triangles[n][(kb + 2) % 3]};
-      EXPECT_EQ(edge, edge_back);
-    }
-  }
-  EXPECT_EQ(std::count(used.begin(), used.end(), false), 0) << "node ids are not compact";
-}
-
-// Particle invariants: inside its body, inside its element, mass = density x volume, and
-// volume = element area / particles per cell.
-void expect_valid_particles(const Model& model, const Scene& scene) {
-  ASSERT_EQ(model.bodies.size(), scene.bodies.size());
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    const int b = model.body[p];
-    const BodyInfo& body = model.bodies[b];
-    ASSERT_TRUE(inside(body.loops, model.position[p])) << "particle " << p << " outside body " << body.name;
-    const Eigen::Vector3d w = barycentric(model, model.element[p], model.position[p]);
-    ASSERT_GT(w.minCoeff(), 0) << "particle " << p << " outside its element " << model.element[p];
-    const double density = model.materials[body.material].density;
-    ASSERT_NEAR(model.mass[p], density * model.volume[p], 1e-12 * model.mass[p]);
-    const int ppc = scene.bodies[scene.body_index(body.name)].particles_per_cell;
-    ASSERT_NEAR(model.volume[p], triangle_area(model, model.element[p]) / ppc, 1e-12 * model.volume[p]);
-  }
-}
-
-std::map<std::string, double> volume_per_body(const Model& model) {
-  std::map<std::string, double> volume;
-  for (std::size_t p = 0; p < model.particle_count(); ++p) volume[model.bodies[model.body[p]].name] += model.volume[p];
-  return volume;
-}
-
-struct Meshed {
-  Scene scene;
-  Model model;
-  preproc::MeshReport report;
-};
-
-Meshed mesh_scene(const std::string& name, const std::vector<std::string>& overrides = {}) {
-  Meshed m;
-  m.scene = load_scene(testing::source_path("geometries/" + name + ".toml"), overrides);
-  m.model = preproc::build_model(m.scene, &m.report);
-  return m;
-}
+using testing::volume_per_body;
+using testing::write_file;
 
 // gmsh sets OpenMP's thread count for the whole process when it starts and when it meshes; a
 // solve after meshing in the same process (talus run, talus fos) must still get every core.
@@ -235,216 +144,6 @@ TEST(PreprocScenes, MeshSizeOverridesTheGeo) {
     }
   EXPECT_GT(shortest, 0.25);
   EXPECT_LT(longest, 0.9);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Scenes written here: a unit square domain split into a ring (surface 1) around a core
-// (surface 2, the square [0.3, 0.7]^2), plus a free-standing closed curve.
-
-constexpr const char* kRingGeo = R"(lc = 0.1;
-Point(1) = {0, 0, 0, lc}; Point(2) = {1, 0, 0, lc}; Point(3) = {1, 1, 0, lc}; Point(4) = {0, 1, 0, lc};
-Point(5) = {0.3, 0.3, 0, lc}; Point(6) = {0.7, 0.3, 0, lc}; Point(7) = {0.7, 0.7, 0, lc}; Point(8) = {0.3, 0.7, 0, lc};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 8}; Line(8) = {8, 5};
-Curve Loop(1) = {1, 2, 3, 4}; Curve Loop(2) = {5, 6, 7, 8};
-Plane Surface(1) = {1, 2}; Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("ring") = {1};
-Physical Surface("core") = {2};
-Physical Curve("bottom") = {1};
-Physical Curve("left") = {4};
-Physical Curve("right") = {2};
-// A triangle drawn apart from the surfaces: gmsh meshes it as curves only.
-Point(9) = {0.12, 0.11, 0, lc}; Point(10) = {0.93, 0.2, 0, lc}; Point(11) = {0.41, 0.87, 0, lc};
-Line(9) = {9, 10}; Line(10) = {10, 11}; Line(11) = {11, 9};
-Physical Curve("wedge") = {9, 10, 11};
-)";
-
-Body make_body(const std::string& name, const std::string& group, int particles_per_cell) {
-  Body body;
-  body.name = name;
-  body.group = group;
-  body.material = "rock";
-  body.particles_per_cell = particles_per_cell;
-  return body;
-}
-
-Scene ring_scene(const std::string& geo, std::vector<Body> bodies, double size = 0.05) {
-  Scene scene;
-  scene.name = "ring";
-  scene.path = "ring.toml";
-  scene.geometry = geo;
-  scene.mesh.size = size;
-  Material rock;
-  rock.name = "rock";
-  rock.density = 2000;
-  rock.youngs_modulus = 1e7;
-  rock.poisson_ratio = 0.25;
-  scene.materials = {rock};
-  scene.bodies = std::move(bodies);
-  scene.post.body = scene.bodies.front().name;
-  return scene;
-}
-
-std::string write_file(const ScratchDir& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir.file(name)) << text;
-  return dir.file(name);
-}
-
-TEST(PreprocSeeding, BodyWithAHoleHasNoParticlesInTheHole) {
-  ScratchDir dir("preproc-hole");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("ring", "ring", 4)});
-  preproc::MeshReport report;
-  const Model model = preproc::build_model(scene, &report);
-  expect_valid_mesh(model);
-  expect_valid_particles(model, scene);
-  ASSERT_EQ(model.bodies[0].loops.size(), 2u);  // the outer square and the hole
-  for (const auto& x : model.position)
-    EXPECT_FALSE(x.x() > 0.3 && x.x() < 0.7 && x.y() > 0.3 && x.y() < 0.7) << x.transpose();
-  EXPECT_NEAR(volume_per_body(model).at("ring"), 1 - 0.16, 1e-12);
-  EXPECT_NEAR(report.bodies[0].polygon_area, 1 - 0.16, 1e-12);
-}
-
-TEST(PreprocSeeding, TwoBodiesGetDisjointParticles) {
-  ScratchDir dir("preproc-two");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("ring", "ring", 3), make_body("core", "core", 6)});
-  const Model model = preproc::build_model(scene);
-  expect_valid_particles(model, scene);
-  const auto volume = volume_per_body(model);
-  EXPECT_NEAR(volume.at("ring"), 0.84, 1e-12);
-  EXPECT_NEAR(volume.at("core"), 0.16, 1e-12);
-  // No particle of one lies in the other, and no element holds particles of both (the mesh
-  // follows the shared edge).
-  std::map<int32_t, std::set<int32_t>> bodies_in_element;
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    const int other = 1 - model.body[p];
-    EXPECT_FALSE(inside(model.bodies[other].loops, model.position[p]));
-    bodies_in_element[model.element[p]].insert(model.body[p]);
-  }
-  for (const auto& [element, bodies] : bodies_in_element) EXPECT_EQ(bodies.size(), 1u) << element;
-}
-
-TEST(PreprocSeeding, OverlappingBodiesAreAnError) {
-  ScratchDir dir("preproc-overlap");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("all", "domain", 4), make_body("core", "core", 4)});
-  try {
-    preproc::build_model(scene);
-    FAIL() << "overlapping bodies were accepted";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("bodies.all"), std::string::npos) << message;
-    EXPECT_NE(message.find("bodies.core"), std::string::npos) << message;
-    EXPECT_NE(message.find("overlap"), std::string::npos) << message;
-  }
-}
-
-TEST(PreprocSeeding, EveryPatternFillsEveryTriangleOfTheDomain) {
-  ScratchDir dir("preproc-ppc");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  for (int ppc : preproc::kSupportedParticlesPerCell) {
-    const Scene scene = ring_scene(geo, {make_body("all", "domain", ppc)}, 0.1);
-    const Model model = preproc::build_model(scene);
-    EXPECT_EQ(model.particle_count(), ppc * model.triangles.size()) << ppc;
-    EXPECT_NEAR(volume_per_body(model).at("all"), 1.0, 1e-12) << ppc;
-    std::vector<int> per_element(model.triangles.size(), 0);
-    for (int32_t e : model.element) ++per_element[e];
-    EXPECT_EQ(*std::min_element(per_element.begin(), per_element.end()), ppc);
-    EXPECT_EQ(*std::max_element(per_element.begin(), per_element.end()), ppc);
-  }
-}
-
-TEST(PreprocSeeding, PatternsAreInteriorAndCentredOnTheCentroid) {
-  for (int ppc : preproc::kSupportedParticlesPerCell) {
-    const auto pattern = preproc::seed_pattern(ppc);
-    ASSERT_EQ(static_cast<int>(pattern.size()), ppc);
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    std::set<std::tuple<double, double, double>> distinct;
-    for (const auto& w : pattern) {
-      EXPECT_NEAR(w.sum(), 1, 1e-15);
-      EXPECT_GT(w.minCoeff(), 0.05) << ppc;  // well inside, never on an edge
-      mean += w / ppc;
-      distinct.insert({w[0], w[1], w[2]});
-    }
-    // Equal weights and the centroid as mean: the rule integrates linear fields exactly, so
-    // the particles' first moment is the triangle's.
-    EXPECT_NEAR((mean - Eigen::Vector3d::Constant(1.0 / 3)).norm(), 0, 1e-15) << ppc;
-    EXPECT_EQ(static_cast<int>(distinct.size()), ppc);
-  }
-  EXPECT_TRUE(preproc::seed_pattern(2).empty());
-  EXPECT_TRUE(preproc::seed_pattern(5).empty());
-}
-
-TEST(PreprocSeeding, ClosedCurveBodyOffTheMeshIsSeededToWithinTwoPercent) {
-  ScratchDir dir("preproc-curve");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("wedge", "wedge", 6)}, 0.02);
-  preproc::MeshReport report;
-  const Model model = preproc::build_model(scene, &report);
-  expect_valid_particles(model, scene);
-  const Eigen::Vector2d a(0.12, 0.11), b(0.93, 0.2), c(0.41, 0.87);
-  const double area = 0.5 * twice_signed_area(a, b, c);
-  EXPECT_NEAR(report.bodies[0].polygon_area, area, 1e-12);
-  EXPECT_LT(std::abs(volume_per_body(model).at("wedge") - area), 0.02 * area);
-  EXPECT_GT(std::abs(report.bodies[0].relative_difference), 0);  // the mesh does not follow this outline
-}
-
-TEST(PreprocSeeding, GeostaticStressAndInitialVelocity) {
-  ScratchDir dir("preproc-stress");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  Body core = make_body("core", "core", 3);
-  core.initial_stress = InitialStress{0.5, std::nullopt};
-  core.initial_velocity = {1.5, -2};
-  Scene scene = ring_scene(geo, {core});
-  scene.run.gravity = {0, -10};
-  const Model model = preproc::build_model(scene);
-  ASSERT_GT(model.particle_count(), 0u);
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    const double sigma_yy = -2000 * 10 * (0.7 - model.position[p].y());  // surface: the core's top
-    EXPECT_NEAR(model.stress[p][1], sigma_yy, 1e-9 * std::abs(sigma_yy));
-    EXPECT_NEAR(model.stress[p][0], 0.5 * sigma_yy, 1e-9 * std::abs(sigma_yy));
-    EXPECT_NEAR(model.stress[p][2], 0.5 * sigma_yy, 1e-9 * std::abs(sigma_yy));
-    EXPECT_EQ(model.stress[p][3], 0);
-    EXPECT_EQ(model.velocity[p], Eigen::Vector2d(1.5, -2));
-  }
-}
-
-TEST(PreprocSeeding, MissingGroupErrorListsTheGroupsOfTheGeo) {
-  ScratchDir dir("preproc-missing");
-  const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("granite", "granite", 4)});
-  try {
-    preproc::build_model(scene);
-    FAIL() << "a missing group was accepted";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    for (const char* part : {"granite", "ring.geo", "bodies.granite", "core", "wedge"})
-      EXPECT_NE(message.find(part), std::string::npos) << part << " not in: " << message;
-  }
-}
-
-TEST(PreprocSeeding, BodyTooSmallForTheMeshIsAnError) {
-  ScratchDir dir("preproc-small");
-  const std::string geo = write_file(dir, "tiny.geo", R"(
-Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0}; Point(4) = {0, 1, 0};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Physical Surface("domain") = {1};
-Point(5) = {0.001, 0.001, 0}; Point(6) = {0.002, 0.001, 0}; Point(7) = {0.002, 0.002, 0};
-Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 5};
-Physical Curve("speck") = {5, 6, 7};
-)");
-  const Scene scene = ring_scene(geo, {make_body("speck", "speck", 1)}, 0.5);
-  try {
-    preproc::build_model(scene);
-    FAIL() << "a body without particles was accepted";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("bodies.speck"), std::string::npos) << message;
-    EXPECT_NE(message.find("too coarse"), std::string::npos) << message;
-  }
 }
 
 // ---------------------------------------------------------------------------------------------

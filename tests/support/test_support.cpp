@@ -182,6 +182,15 @@ std::optional<double> lube_runout(double a) {
   return std::nullopt;
 }
 
+Material mohr_coulomb(double density, double youngs_modulus, double poisson_ratio, double friction_angle,
+                      double cohesion) {
+  Material m = elastic(density, youngs_modulus, poisson_ratio);
+  m.model = MaterialModel::MohrCoulomb;
+  m.friction_angle = friction_angle;
+  m.cohesion = cohesion;
+  return m;
+}
+
 void set_run(Model& model, double end_time, Eigen::Vector2d gravity) {
   model.run.end_time = end_time;
   model.run.cfl = 0.5;

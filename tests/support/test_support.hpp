@@ -71,6 +71,9 @@ std::optional<double> lube_runout(double aspect_ratio);
 
 // A linear elastic material.
 Material elastic(double density, double youngs_modulus, double poisson_ratio);
+// A Mohr-Coulomb material without dilation or tension cut-off (angles in degrees).
+Material mohr_coulomb(double density, double youngs_modulus, double poisson_ratio, double friction_angle,
+                      double cohesion);
 
 // Default run settings for tests: no gravity, CFL 0.5, one frame at the end.
 void set_run(Model& model, double end_time, Eigen::Vector2d gravity = Eigen::Vector2d::Zero());

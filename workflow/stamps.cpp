@@ -1,14 +1,14 @@
-#include "app/stamps.hpp"
+#include "workflow/stamps.hpp"
 
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "common/atomic_file.hpp"
+
 namespace talus::stamps {
 namespace {
-
-constexpr uint64_t kPrime = 1099511628211ull;
 
 std::string stamp_path(const std::string& folder) {
   return (std::filesystem::path(folder) / ".talus-stamps").string();
@@ -25,22 +25,12 @@ std::map<std::string, uint64_t> read_all(const std::string& folder) {
 
 }  // namespace
 
-uint64_t hash(const std::string& text, uint64_t seed) {
-  uint64_t h = seed;
-  for (unsigned char c : text) h = (h ^ c) * kPrime;
-  return h;
-}
+uint64_t hash(const std::string& text, uint64_t seed) { return Fingerprint(seed).add(text).value(); }
 
 uint64_t hash_file(const std::string& path, uint64_t seed) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return hash("missing:" + path, seed);
-  uint64_t h = seed;
-  char buffer[1 << 16];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ static_cast<unsigned char>(buffer[i])) * kPrime;
-    if (!in) break;
-  }
-  return h;
+  Fingerprint f(seed);
+  if (!f.add_file(path)) return hash("missing:" + path, seed);
+  return f.value();
 }
 
 uint64_t program() {
@@ -57,12 +47,9 @@ uint64_t recorded(const std::string& folder, const std::string& stage) {
 void record(const std::string& folder, const std::string& stage, uint64_t fingerprint) {
   auto stamps = read_all(folder);
   stamps[stage] = fingerprint;
-  const std::string temporary = stamp_path(folder) + ".tmp";
-  {
-    std::ofstream out(temporary);
+  write_stream_atomically(stamp_path(folder), [&](std::ostream& out) {
     for (const auto& [name, value] : stamps) out << name << " " << std::hex << value << "\n";
-  }
-  std::filesystem::rename(temporary, stamp_path(folder));
+  });
 }
 
 void forget(const std::string& folder) {

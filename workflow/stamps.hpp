@@ -7,11 +7,14 @@
 #include <cstdint>
 #include <string>
 
+#include "common/fingerprint.hpp"
+
 namespace talus::stamps {
 
-// FNV-1a over a string, and over a file's bytes (a missing file hashes as its name).
-uint64_t hash(const std::string& text, uint64_t seed = 1469598103934665603ull);
-uint64_t hash_file(const std::string& path, uint64_t seed = 1469598103934665603ull);
+// A Fingerprint (FNV-1a) over a string, and over a file's bytes (a missing file hashes as its
+// name), continuing from `seed`.
+uint64_t hash(const std::string& text, uint64_t seed = Fingerprint::kStart);
+uint64_t hash_file(const std::string& path, uint64_t seed = Fingerprint::kStart);
 
 // The running program's executable.
 uint64_t program();

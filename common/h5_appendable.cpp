@@ -1,0 +1,68 @@
+// h5::Appendable: datasets that grow by records (results.h5's frames and history), apart from
+// common/h5.cpp to keep each file short.
+#include <algorithm>
+
+#include "common/error.hpp"
+#include "common/h5.hpp"
+
+namespace talus::h5 {
+
+Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type,
+                       hsize_t chunk_rows)
+    : record_(record), type_(type), where_(file.path() + ": " + path) {
+  Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(chunk_rows, 1)};
+  for (hsize_t d : record) {
+    dims.push_back(d);
+    max_dims.push_back(d);
+    chunk.push_back(std::max<hsize_t>(d, 1));
+  }
+  Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()));
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+  H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data());
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id(), 1);
+  dataset_ = Handle(H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT));
+  if (!dataset_.valid()) throw Error(where_ + ": cannot create appendable dataset");
+}
+
+void Appendable::append(const void* records, hsize_t rows) {
+  if (rows == 0) return;
+  Dims dims{count_ + rows}, start{count_}, count{rows};
+  for (hsize_t d : record_) {
+    dims.push_back(d);
+    start.push_back(0);
+    count.push_back(d);
+  }
+  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
+  Handle file_space(H5Dget_space(dataset_.id()));
+  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
+  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
+  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
+    throw Error(where_ + ": cannot write record");
+  count_ += rows;
+}
+
+Appendable Appendable::reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
+                              hid_t type) {
+  Appendable appendable;
+  appendable.record_ = record;
+  appendable.type_ = type;
+  appendable.where_ = file.path() + ": " + path;
+  auto fail = [&](const std::string& message) { throw Error(located(file.path(), path, message)); };
+  if (!exists(file, path)) fail("missing dataset");
+  const Dims dims = shape(file, path);
+  Dims expected{dims.empty() ? 0 : dims[0]};
+  expected.insert(expected.end(), record.begin(), record.end());
+  if (dims != expected) fail("unexpected shape");
+  if (dims[0] < keep)
+    fail("has " + std::to_string(dims[0]) + " records, fewer than the " + std::to_string(keep) + " expected");
+  appendable.dataset_ = Handle(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT));
+  if (!appendable.dataset_.valid()) fail("cannot open dataset");
+  Dims cut = expected;
+  cut[0] = keep;
+  if (H5Dset_extent(appendable.dataset_.id(), cut.data()) < 0) fail("cannot truncate dataset");
+  appendable.count_ = keep;
+  return appendable;
+}
+
+}  // namespace talus::h5

@@ -1,0 +1,43 @@
+// The model's numeric settings listed once, by the names model.h5 and results.h5 give them:
+// writing and reading the files (model.cpp) and the checkpoint's fingerprint of the physics
+// (solver/checkpoint.cpp) all visit these lists, so a new run setting or material parameter
+// is one line here (plus its scene key and its range).
+//
+// visit(name, value) receives a reference to a double, bool, int, long, Eigen::Vector2d or Transfer;
+// const when the settings are.
+#pragma once
+#include "common/scene.hpp"
+
+namespace talus {
+
+template <class Run, class Visit>
+void for_each_run_setting(Run& run, Visit&& visit) {
+  visit("end_time", run.end_time);
+  visit("cfl", run.cfl);
+  visit("output_interval", run.output_interval);
+  visit("gravity", run.gravity);
+  visit("gravity_ramp", run.gravity_ramp);
+  visit("damping", run.damping);
+  visit("evs", run.evs);
+  visit("transfer", run.transfer);
+  visit("pic_fraction", run.pic_fraction);
+  visit("xpic_order", run.xpic_order);
+  visit("history_interval", run.history_interval);
+  visit("rest_ratio", run.rest_ratio);
+  visit("rest_window", run.rest_window);
+  visit("max_steps", run.max_steps);
+}
+
+// The numeric parameters of a material (its name and model are kept apart).
+template <class M, class Visit>
+void for_each_material_parameter(M& material, Visit&& visit) {
+  visit("density", material.density);
+  visit("youngs_modulus", material.youngs_modulus);
+  visit("poisson_ratio", material.poisson_ratio);
+  visit("friction_angle", material.friction_angle);
+  visit("cohesion", material.cohesion);
+  visit("dilation_angle", material.dilation_angle);
+  visit("tensile_strength", material.tensile_strength);
+}
+
+}  // namespace talus

@@ -1,0 +1,49 @@
+// The reader of the scene's [materials.NAME] tables; the ranges are common/material.hpp's.
+#include "common/material.hpp"
+#include "common/scene_reader.hpp"
+
+namespace talus::scene_reader {
+namespace {
+
+Material read_material(TableReader& top, const std::string& name, const toml::table* table) {
+  check_name(name, "materials." + name, top.file());
+  TableReader r = top.child(table, "materials." + name);
+  Material m;
+  m.name = name;
+  const std::string model = r.text("model", std::nullopt);
+  if (model == "linear_elastic") m.model = MaterialModel::LinearElastic;
+  else if (model == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
+  else r.fail("model", "unknown material model '" + echoed(model) + "' (expected linear_elastic or mohr_coulomb)");
+  // Each parameter checked as it is read (common/material.hpp), so the first bad one is reported.
+  auto parameter = [&](double Material::*field, const std::string& key, std::optional<double> fallback) {
+    m.*field = r.any_number(key, fallback);
+    if (const auto problem = parameter_problem(m, key)) r.fail(key, problem->message);
+  };
+  parameter(&Material::density, "density", std::nullopt);
+  parameter(&Material::youngs_modulus, "youngs_modulus", std::nullopt);
+  parameter(&Material::poisson_ratio, "poisson_ratio", std::nullopt);
+  if (m.model == MaterialModel::MohrCoulomb) {
+    parameter(&Material::friction_angle, "friction_angle", std::nullopt);
+    parameter(&Material::cohesion, "cohesion", std::nullopt);
+    parameter(&Material::dilation_angle, "dilation_angle", 0.0);
+    // In a scene, no tensile_strength is no cut-off; a strength given is a number >= 0.
+    m.tensile_strength = r.has("tensile_strength") ? r.number("tensile_strength", std::nullopt, 0, kInf) : -1;
+  }
+  if (const auto problem = material_problem(m)) r.fail(problem->key, problem->message);
+  r.finish();
+  return m;
+}
+
+}  // namespace
+
+void read_materials(TableReader& top, Scene& scene) {
+  const toml::table* materials = top.table("materials");
+  if (!materials || materials->empty()) top.fail("materials", "missing (at least one [materials.NAME] table)");
+  for (const auto& [key, node] : *materials) {
+    const toml::table* table = node.as_table();
+    if (!table) top.fail("materials." + std::string(key.str()), "expected a table");
+    scene.materials.push_back(read_material(top, std::string(key.str()), table));
+  }
+}
+
+}  // namespace talus::scene_reader

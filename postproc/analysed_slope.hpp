@@ -1,0 +1,55 @@
+// The analysed body of a model and the slope it forms, as every slope measure sees them: the
+// body named by post.body (default the first) and the ground surface of its outer loop in the
+// canonical frame (descending towards +x, see Mirror). `talus post` starts here on the metadata
+// of a results file, `talus fos` on the model it has just built. Rules: docs/postproc.md.
+#pragma once
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/model.hpp"
+#include "postproc/bishop.hpp"
+#include "postproc/slope_geometry.hpp"
+
+namespace talus::postproc {
+
+// Where the model came from, for the errors (talus::Error, naming the file and the item).
+struct Source {
+  std::string file;
+  // Items spelled as scene keys (post.body, bodies.NAME) rather than as the HDF5 paths of a
+  // results file (settings/post@body, bodies/NAME, particles/body).
+  bool scene = false;
+  std::string needs = "the slope metrics need";  // opens the error on a flat ground surface
+};
+
+struct AnalysedBody {
+  int index = 0;                       // into Model::bodies
+  std::vector<std::size_t> particles;  // the body's particles, in model order
+};
+
+// post.body of `model` (default its first body); `body_of` gives each particle's body (Model::body,
+// Results::body). Throws when no body has that name, there are no bodies, or it has no particles.
+AnalysedBody analysed_body(const Model& model, const std::vector<int32_t>& body_of, const Source& source);
+
+struct AnalysedSlope {
+  Mirror mirror;          // scene frame <-> canonical frame
+  SlopeProfile profile;   // canonical frame
+};
+
+// The profile of the body's outer loop. A level-topped body (a column) that moved has its face
+// on the side its particles moved to: motion_x is their mean displacement along x (m), 0 when
+// not known or none. Throws when the body has no downhill face (a flat layer, or a level top
+// that did not move).
+AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source, double motion_x = 0);
+
+// The positions of the particles `which` of `all`, taken into the canonical frame.
+std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector2d>& all,
+                                                 const std::vector<std::size_t>& which, const Mirror& mirror);
+
+// Bishop's critical circle of the slope (bishop_search on the canonical profile), its centre and
+// its entry (uphill) and exit back in the scene's frame (mirrored). Empty when none is admissible,
+// and for a surface with a vertical face, which a method of slices cannot treat.
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil);
+
+}  // namespace talus::postproc

@@ -1,0 +1,53 @@
+// The ground as a method of slices sees it, kept apart from the search for the slip circle:
+// per slice, the weight of the column above the slip surface and, at the middle of the slice's
+// base, the strength and the pore pressure. Bishop's method (bishop.hpp) asks a SliceModel for
+// these and never looks at soil properties itself, so a layered ground, a water table or a
+// surcharge is another SliceModel and the same circle search serves it.
+#pragma once
+#include <cmath>
+
+namespace talus::postproc {
+
+struct SoilStrength {
+  double cohesion = 0;        // c' (Pa, or any unit consistent with unit_weight x length)
+  double friction_angle = 0;  // phi' (deg)
+  double unit_weight = 0;     // gamma = rho g (N/m^3)
+};
+
+// One vertical slice of the sliding mass, in the canonical frame (the slope descends towards +x).
+struct Slice {
+  double x = 0;       // middle of the slice (m)
+  double width = 0;   // b (m)
+  double top = 0;     // ground surface at x (m)
+  double bottom = 0;  // slip surface at x (m), at or below top
+};
+
+// What the method needs of one slice.
+struct SliceForces {
+  double weight = 0;         // W: the column between top and bottom, with any load on it (N per m)
+  double cohesion = 0;       // c' at the base (Pa)
+  double tan_phi = 0;        // tan(phi') at the base
+  double pore_pressure = 0;  // u at the base (Pa)
+};
+
+class SliceModel {
+ public:
+  virtual ~SliceModel() = default;
+  virtual SliceForces forces(const Slice& slice) const = 0;
+};
+
+// One dry soil throughout: W = gamma b (top - bottom), u = 0.
+class UniformSoil final : public SliceModel {
+ public:
+  explicit UniformSoil(const SoilStrength& soil)
+      : soil_(soil), tan_phi_(std::tan(soil.friction_angle * M_PI / 180.0)) {}
+  SliceForces forces(const Slice& s) const override {
+    return {soil_.unit_weight * s.width * (s.top - s.bottom), soil_.cohesion, tan_phi_, 0.0};
+  }
+
+ private:
+  SoilStrength soil_;
+  double tan_phi_;
+};
+
+}  // namespace talus::postproc

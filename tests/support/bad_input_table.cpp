@@ -1,0 +1,113 @@
+#include "support/bad_input_table.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "support/test_support.hpp"
+
+namespace talus::testing {
+
+namespace fs = std::filesystem;
+
+const char* const kGeo = R"(lc = 0.25;
+Point(1) = {0, 0, 0, lc}; Point(2) = {2, 0, 0, lc}; Point(3) = {2, 1, 0, lc}; Point(4) = {0, 1, 0, lc};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Surface("domain") = {1};
+Physical Surface("block") = {1};
+Physical Curve("base") = {1};
+Point(5) = {0.5, 0.5, 0, lc}; Point(6) = {0.501, 0.5, 0, lc}; Point(7) = {0.501, 0.501, 0, lc};
+Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 5};
+Physical Curve("speck") = {5, 6, 7};
+)";
+
+// A valid scene; each scene row replaces one piece of it.
+const char* const kScene = R"([scene]
+geometry = "block.geo"
+
+[mesh]
+size = 0.25
+
+[run]
+end_time = 0.01
+cfl = 0.5
+output_interval = 0.005
+damping = 0.0
+evs = false
+gravity = [0.0, -9.81]
+
+[materials.rock]
+model = "mohr_coulomb"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.25
+friction_angle = 30.0
+cohesion = 1000.0
+dilation_angle = 0.0
+
+[bodies.block]
+material = "rock"
+particles_per_cell = 4
+
+[boundaries.base]
+type = "fixed"
+
+[contact]
+friction = 0.3
+)";
+
+std::string write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the base scene has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string scene_row(const fs::path& dir, const std::string& scene, const std::string& extra) {
+  write_file(dir / "block.geo", kGeo);
+  return "mesh " + write_file(dir / "block.toml", scene) + " " + extra;
+}
+
+std::string scene_change(const fs::path& dir, const std::string& from, const std::string& to) {
+  return scene_row(dir, replaced(kScene, from, to));
+}
+
+namespace {
+
+std::vector<std::string> leftovers(const fs::path& out) {
+  std::vector<std::string> found;
+  if (!fs::exists(out)) return found;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "model.h5" || name == "results.h5" || name == "metrics.json" || name == "checkpoint.h5" ||
+        entry.path().extension() == ".tmp")
+      found.push_back(name);
+  }
+  return found;
+}
+
+}  // namespace
+
+void expect_rows_fail_cleanly(const std::vector<Row>& rows) {
+  for (const auto& row : rows) {
+    SCOPED_TRACE(row.what);
+    ScratchDir dir("bad-input");
+    const fs::path out = dir.path() / "out";
+    const auto result = run_talus(row.prepare(dir.path()) + " --out " + out.string());
+    EXPECT_EQ(result.status, 1) << result.output;
+    for (const auto& word : row.words)
+      EXPECT_NE(result.output.find(word), std::string::npos) << "'" << word << "' not in: " << result.output;
+    EXPECT_EQ(result.output.find("internal error"), std::string::npos) << result.output;
+    const auto left = leftovers(out);
+    EXPECT_TRUE(left.empty()) << "left behind: " << (left.empty() ? "" : left.front());
+  }
+}
+
+}  // namespace talus::testing

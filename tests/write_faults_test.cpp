@@ -1,0 +1,101 @@
+// Write faults through the binary (issue 17, items 4 and 5): a full disk, simulated by a file
+// size limit (ulimit -f, with SIGXFSZ ignored so that the write fails instead of killing the
+// process), stops mesh, solve and post with exit status 1 and a message naming the file, and
+// leaves no half-written file under a final name; results.h5 deleted while a solve writes it
+// stops the solve.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "support/bad_input_table.hpp"
+#include "support/test_support.hpp"
+
+namespace talus {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_shell;
+using testing::ScratchDir;
+
+// `talus ARGS` with files limited to `blocks` of 512 bytes (sh's ulimit -f).
+testing::CommandResult talus_limited(int blocks, const std::string& args) {
+  return run_shell("trap '' XFSZ; ulimit -f " + std::to_string(blocks) + "; " + TALUS_BINARY + " " + args);
+}
+
+void expect_failed_write(const testing::CommandResult& result, const std::string& file) {
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file + ": cannot write"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find("internal error"), std::string::npos) << result.output;
+}
+
+TEST(WriteFaults, AFullDiskStopsEveryStageAndLeavesNoHalfWrittenFile) {
+  ScratchDir dir("write-faults");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(dir.path(), testing::kScene) + " --out " + out.string();
+
+  expect_failed_write(talus_limited(20, scene), "model.h5.tmp");
+  EXPECT_FALSE(fs::exists(out / "model.h5"));
+  EXPECT_FALSE(fs::exists(out / "model.h5.tmp"));
+
+  ASSERT_EQ(testing::run_talus(scene + " --quiet").status, 0);
+  // 154 kB passes the estimate of results.h5 (110 kB: 4 frames of 344 particles at 80 B) and
+  // stops the writes (the file takes 181 kB).
+  const auto solved = talus_limited(300, "solve " + (out / "model.h5").string());
+  expect_failed_write(solved, "results.h5");
+  EXPECT_NE(solved.output.find("removed " + (out / "results.h5").string() + " and results.xdmf"), std::string::npos)
+      << solved.output;
+  EXPECT_FALSE(fs::exists(out / "results.h5"));
+  EXPECT_FALSE(fs::exists(out / "results.xdmf"));
+}
+
+TEST(WriteFaults, AFullDiskDuringTheFiguresLeavesNoTruncatedPicture) {
+  ScratchDir dir("write-faults-figures");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(dir.path(), testing::kScene).replace(0, 4, "run");
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  for (const auto& entry : fs::directory_iterator(out))
+    if (entry.path().extension() == ".png") fs::remove(entry.path());
+  const auto result = talus_limited(40, "post " + (out / "results.h5").string() + " -q");  // 20 kB
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find("figures.py: figures failed: exited with status 1: OSError: [Errno 27] File too large"),
+            std::string::npos)
+      << result.output;
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_EQ(entry.path().string().find(".png"), std::string::npos) << "left: " << entry.path();
+}
+
+TEST(WriteFaults, ResultsThatWouldNotFitAreRefusedBeforeTheSolve) {
+  ScratchDir dir("write-faults-estimate");
+  const fs::path out = dir.path() / "out";
+  const std::string scene =
+      testing::scene_row(dir.path(), testing::replaced(testing::kScene, "output_interval = 0.005", "output_interval = 1e-5"));
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  const auto result = talus_limited(1000, "solve " + (out / "model.h5").string());
+  EXPECT_EQ(result.status, 1) << result.output;
+  for (const char* words : {"model.h5: settings/run@output_interval: results.h5 would take about 0.027",
+                            " frames of 344 particles at 80 B each), more than the file size limit of 0.000512 GB"})
+    EXPECT_NE(result.output.find(words), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("raise run.output_interval"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(out / "results.h5"));
+}
+
+TEST(WriteFaults, ResultsDeletedDuringASolveStopIt) {
+  ScratchDir dir("write-faults-deleted");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(
+      dir.path(), testing::replaced(testing::replaced(testing::kScene, "end_time = 0.01", "end_time = 100.0"),
+                                    "gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]"));
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  const std::string results = (out / "results.h5").string();
+  const auto result = run_shell("( " + std::string(TALUS_BINARY) + " solve " + (out / "model.h5").string() +
+                                " -q & pid=$!; for i in $(seq 1 3000); do [ -f '" + results +
+                                "' ] && break; sleep 0.01; done; sleep 0.2; rm '" + results +
+                                "'; wait $pid; echo status=$? )");
+  EXPECT_NE(result.output.find("status=1"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(results + ": deleted while the solve was writing it"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(out / "results.xdmf"));
+}
+
+}  // namespace
+}  // namespace talus

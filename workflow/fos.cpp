@@ -1,0 +1,166 @@
+// The factor-of-safety workflow. Method and criteria: docs/fos.md.
+#include "workflow/fos.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "common/model.hpp"
+#include "common/scene.hpp"
+#include "postproc/analysed_slope.hpp"
+#include "postproc/figure_script.hpp"
+#include "postproc/output.hpp"
+#include "postproc/runout.hpp"
+#include "workflow/folder_lock.hpp"
+#include "preproc/preproc.hpp"
+#include "solver/strength_reduction.hpp"
+#include "workflow/fos_report.hpp"
+#include "workflow/pipeline.hpp"
+
+namespace fs = std::filesystem;
+
+namespace talus::workflow {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Vec2 = Eigen::Vector2d;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The monitoring point: the body's particle nearest the middle of the slope face.
+int32_t monitoring_particle(const postproc::AnalysedSlope& slope, const postproc::AnalysedBody& body,
+                            const Model& model) {
+  const double x = 0.5 * (slope.profile.crest.x() + slope.profile.toe.x());
+  const Vec2 target(x, postproc::surface_height(slope.profile.surface, x));
+  const auto distance = [&](std::size_t p) { return (slope.mirror.point(model.position[p]) - target).norm(); };
+  std::size_t best = body.particles.front();
+  for (std::size_t p : body.particles)
+    if (distance(p) < distance(best)) best = p;
+  return static_cast<int32_t>(best);
+}
+
+std::vector<Vec2> equilibrium_positions(const solver::Simulation& sim) {
+  std::vector<Vec2> x(sim.particles.size());
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) x[sim.particles.id[p]] = sim.particles.x[p];
+  return x;
+}
+
+// The postproc's extraction on the displacements of the failing trial from equilibrium, drawn
+// in the initial configuration. Threshold: half the smaller of the displacement limit and the
+// monitoring point's displacement (a trial failed by its step budget may have moved less).
+FosSlip slip_of(const postproc::AnalysedSlope& slope, const postproc::AnalysedBody& body, const Model& model,
+                const std::vector<Vec2>& x_eq, const solver::TrialOutcome& failing, double limit) {
+  FosSlip out;
+  out.threshold = 0.5 * std::min(limit, failing.monitor_displacement);
+  std::vector<double> volume;
+  for (std::size_t p : body.particles) {
+    volume.push_back(model.volume[p]);
+    out.displacement.push_back((failing.position[p] - x_eq[p]).norm());
+  }
+  out.surface = postproc::extract_slip_surface(
+      postproc::canonical_positions(model.position, body.particles, slope.mirror),
+      postproc::canonical_positions(x_eq, body.particles, slope.mirror),
+      postproc::canonical_positions(failing.position, body.particles, slope.mirror), volume, out.threshold,
+      postproc::column_rule_for(volume).width, slope.mirror);
+  return out;
+}
+
+void print_trial(std::ostream& log, int round, const solver::TrialOutcome& o) {
+  log << "  round " << round << ": F = " << std::fixed << std::setprecision(4) << o.factor << "  "
+      << (o.failed ? "FAILED" : "stable") << " (" << o.reason << "), d_monitor = " << std::setprecision(4)
+      << o.monitor_displacement << " m, " << o.steps << " steps, " << std::setprecision(1) << o.seconds << " s"
+      << std::defaultfloat << std::endl;
+}
+
+void print_result(std::ostream& log, const FosReport& r) {
+  log << std::fixed << std::setprecision(3) << "factor of safety F = " << r.search.factor << " (bracket "
+      << r.search.lower << " .. " << r.search.upper << ", tolerance " << r.tolerance << ")"
+      << (r.equilibrium.fails_as_built ? ": below 1, the slope fails as built" : "") << "\n"
+      << "  Bishop (simplified, critical circle): "
+      << (r.bishop ? std::to_string(r.bishop->factor_of_safety) : "n/a") << "\n"
+      << "  " << r.search.trials.size() << " trials in " << r.search.rounds << " rounds on " << r.workers
+      << " workers, search " << std::setprecision(1) << r.search_seconds << " s, equilibrium "
+      << r.equilibrium_seconds << " s\n" << std::defaultfloat;
+}
+
+}  // namespace
+
+int run_fos(const FosOptions& options, std::ostream& out_log) {
+  std::ostringstream discarded;
+  std::ostream& log = options.quiet ? static_cast<std::ostream&>(discarded) : out_log;
+  const double tolerance = options.tolerance.value_or(solver::SearchSettings{}.tolerance);
+
+  const Scene scene = load_scene(options.scene_path, options.overrides);
+  const fs::path out = output_folder(options.out, scene);
+  const FolderLock lock(out.string());
+  const Model model = preproc::build_model(scene);
+  const postproc::Source source{scene.path, true, "fos needs"};
+  const postproc::AnalysedBody body = postproc::analysed_body(model, model.body, source);
+  const postproc::AnalysedSlope slope = postproc::analysed_slope(model.bodies[body.index], source);
+  const Material& material = model.materials[model.bodies[body.index].material];
+  if (material.model != MaterialModel::MohrCoulomb)
+    throw Error(located(scene.path, "materials." + material.name, "fos needs a Mohr-Coulomb material"));
+
+  const std::optional<postproc::BishopResult> bishop = postproc::critical_circle(
+      slope, {material.cohesion, material.friction_angle, material.density * scene.run.gravity.norm()});
+
+  solver::ReductionProblem problem;
+  problem.model = &model;
+  problem.height = slope.profile.height;
+  problem.monitor = monitoring_particle(slope, body, model);
+  problem.settings.cfl = scene.run.cfl;
+  const double period = solver::elastic_period(problem);
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  log << "talus fos: " << scene.name << ", " << model.particle_count() << " particles, " << model.triangles.size()
+      << " elements, H = " << problem.height << " m, T0 = " << std::setprecision(3) << period << " s; "
+      << "Bishop F = " << (bishop ? std::to_string(bishop->factor_of_safety) : "n/a") << std::endl;
+
+  const auto equilibrium_start = Clock::now();
+  const solver::EquilibriumState equilibrium = solver::bring_to_equilibrium(problem, threads, &log);
+  const double equilibrium_seconds = seconds_since(equilibrium_start);
+  if (equilibrium.fails_as_built)
+    log << "the slope fails as built (no equilibrium at F = 1): F < 1, searched with raised strength" << std::endl;
+
+  solver::SearchSettings settings;
+  settings.tolerance = tolerance;
+  settings.stable_factor = equilibrium.factor;
+  settings.failed_factor = equilibrium.failed_factor;
+  settings.workers = threads;
+  const auto search_start = Clock::now();
+  int round = 0;
+  const solver::SearchResult search = solver::search_factor_of_safety(
+      [&](const std::vector<double>& factors) {
+        ++round;
+        return solver::run_trials(problem, equilibrium, factors, threads,
+                                  [&](const solver::TrialOutcome& o) { print_trial(log, round, o); });
+      },
+      settings);
+  const double search_seconds = seconds_since(search_start);
+
+  std::optional<FosSlip> slip;
+  if (search.upper_trial >= 0)
+    slip = slip_of(slope, body, model, equilibrium_positions(equilibrium.sim), search.trials[search.upper_trial],
+                   problem.settings.displacement_limit * problem.height);
+
+  const FosReport report{scene,  model,  body.index, problem, equilibrium, search, bishop, slip ? &*slip : nullptr,
+                         tolerance, period, search_seconds, equilibrium_seconds, threads};
+  postproc::write_file_atomically((out / "fos.json").string(), fos_json(report));
+  if (slip) {
+    std::vector<double> x, y;
+    for (std::size_t p : body.particles) x.push_back(model.position[p].x()), y.push_back(model.position[p].y());
+    postproc::write_csv((out / "fos_particles.csv").string(), {"x0_m", "y0_m", "displacement_m"},
+                        {x, y, slip->displacement});
+  }
+
+  print_result(log, report);
+  log << "wrote " << (out / "fos.json").string() << std::endl;
+  if (!slip) return 0;
+  postproc::run_figure_script(postproc::figure_script("fos_figure.py"), {"--out", out.string()}, log);
+  return 0;
+}
+
+}  // namespace talus::workflow

@@ -1,0 +1,38 @@
+// fos.json: what a factor-of-safety run found, the criteria it used and every trial it ran
+// (keys listed in docs/fos.md).
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/model.hpp"
+#include "common/scene.hpp"
+#include "postproc/bishop.hpp"
+#include "postproc/failure_surface.hpp"
+#include "solver/strength_reduction.hpp"
+
+namespace talus::workflow {
+
+// The slip surface of the smallest failing trial.
+struct FosSlip {
+  postproc::SlipSurface surface;     // scene frame
+  double threshold = 0;              // m, of the sliding mask
+  std::vector<double> displacement;  // m, per particle of the analysed body, from equilibrium
+};
+
+struct FosReport {
+  const Scene& scene;
+  const Model& model;
+  int body;  // the analysed body, index into model.bodies
+  const solver::ReductionProblem& problem;
+  const solver::EquilibriumState& equilibrium;
+  const solver::SearchResult& search;
+  const std::optional<postproc::BishopResult>& bishop;
+  const FosSlip* slip;  // null when no trial failed (the failing bound was known beforehand)
+  double tolerance, period, search_seconds, equilibrium_seconds;
+  int workers;
+};
+
+std::string fos_json(const FosReport& report);
+
+}  // namespace talus::workflow

@@ -1,0 +1,181 @@
+#include "workflow/pipeline.hpp"
+
+#include <sys/resource.h>
+#include <sys/statvfs.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+
+#include "common/error.hpp"
+#include "common/model.hpp"
+#include "postproc/postproc.hpp"
+#include "preproc/preproc.hpp"
+#include "solver/solver.hpp"
+#include "workflow/folder_lock.hpp"
+#include "workflow/stamps.hpp"
+
+namespace fs = std::filesystem;
+
+namespace talus::workflow {
+namespace {
+
+// `folder` created (with its parents) if missing; a path that cannot be a folder is bad input.
+std::string created_folder(const std::string& folder) {
+  if (folder.empty()) throw Error("--out: expected a folder, got an empty name");
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (!error && !fs::is_directory(folder, error)) error = std::make_error_code(std::errc::not_a_directory);
+  if (error) throw Error(located(folder, "", "cannot use this as the output folder: " + error.message()));
+  return folder;
+}
+
+// The folder of a stage that reads a file: `out`, else the file's own folder; created.
+std::string folder_beside(const std::optional<std::string>& out, const std::string& input) {
+  std::string folder = out ? *out : fs::path(input).parent_path().string();
+  if (folder.empty() && !out) folder = ".";
+  return created_folder(folder);
+}
+
+// A failed mesh says which files of the folder an earlier run left (they are not this scene's)
+// and forgets the folder's stamps, so that nothing there passes for this run's output.
+Error mesh_failed(const Error& error, const std::string& folder) {
+  stamps::forget(folder);
+  std::string earlier;
+  for (const char* name : {"model.h5", "results.h5", "metrics.json", "checkpoint.h5"})
+    if (fs::exists(fs::path(folder) / name)) earlier += (earlier.empty() ? "" : ", ") + std::string(name);
+  if (earlier.empty()) return error;
+  return Error(std::string(error.what()) + "\n(nothing was written: " + earlier + " in " + folder +
+               " are from an earlier run, not from this one)");
+}
+
+std::string mesh(const Scene& scene, const std::string& folder, bool quiet, std::ostream& log) {
+  preproc::MeshReport report;
+  const std::string path = (fs::path(folder) / "model.h5").string();
+  try {
+    write_model(path, preproc::build_model(scene, &report));
+  } catch (const Error& error) {
+    throw mesh_failed(error, folder);
+  }
+  if (!quiet) {
+    preproc::print_report(report, log);
+    log << "wrote " << path << std::endl;
+  }
+  return path;
+}
+
+// results.h5 keeps 9 doubles per particle and frame (position, velocity, stress, plastic
+// strain), 80 B with HDF5's overhead; results.xdmf about 3 kB per frame. A run whose results
+// would not fit in the folder's free space, or in the process's file size limit, is refused.
+void check_results_fit(const Model& model, const std::string& model_path, const std::string& folder) {
+  const double frames = std::floor(model.run.end_time / model.run.output_interval) + 2;
+  const double h5_bytes = frames * 80.0 * static_cast<double>(model.particle_count());
+  const double bytes = h5_bytes + frames * 3000.0;
+  struct statvfs disk {};
+  const double free_bytes =
+      statvfs(folder.c_str(), &disk) == 0 ? static_cast<double>(disk.f_bavail) * disk.f_frsize : HUGE_VAL;
+  struct rlimit limit {};
+  const double file_limit = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY
+                                ? static_cast<double>(limit.rlim_cur)
+                                : HUGE_VAL;
+  if (bytes <= free_bytes && h5_bytes <= file_limit) return;
+  std::ostringstream message;
+  message.precision(3);
+  message << "results.h5 would take about " << h5_bytes / 1e9 << " GB (" << static_cast<long long>(frames) << " frames of "
+          << model.particle_count() << " particles at 80 B each), more than ";
+  if (h5_bytes > file_limit) message << "the file size limit of " << file_limit / 1e9 << " GB (ulimit -f)";
+  else message << "the " << free_bytes / 1e9 << " GB free in " << folder;
+  message << ": raise run.output_interval";
+  throw Error(located(model_path, "settings/run@output_interval", message.str()));
+}
+
+void solve(const std::string& model_path, const std::string& folder, const StageOptions& options, std::ostream& log) {
+  const Model model = read_model(model_path);
+  check_results_fit(model, model_path, folder);
+  solver::SolveOptions solve_options;
+  solve_options.out_dir = folder;
+  solve_options.progress = !options.quiet;
+  solve_options.threads = options.threads;
+  solve_options.checkpoint_interval = options.checkpoint_interval;
+  solve_options.restart = options.restart;
+  std::ostringstream discarded;
+  solver::SolveSummary summary;
+  try {
+    summary = solver::solve(model, solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
+  } catch (const Error& error) {
+    // The solver's checks of the mesh and particles say "model: ...": name the file.
+    const std::string message = error.what();
+    if (message.rfind("model: ", 0) != 0) throw;
+    throw Error(located(model_path, "", message.substr(7)));
+  }
+  if (!options.quiet) {
+    solver::print_summary(summary, log);
+    log << "wrote " << (fs::path(folder) / "results.h5").string() << " and results.xdmf\n";
+  }
+}
+
+int post(const std::string& results_path, const std::string& folder, bool quiet, std::ostream& log) {
+  std::ostringstream discarded;
+  return postproc::run_post(results_path, folder, quiet ? static_cast<std::ostream&>(discarded) : log);
+}
+
+}  // namespace
+
+std::string output_folder(const std::optional<std::string>& out, const Scene& scene) {
+  return created_folder(out ? *out : (fs::path("out") / scene.name).string());
+}
+
+std::string mesh_stage(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
+  const Scene scene = load_scene(scene_path, options.overrides);
+  const std::string folder = output_folder(options.out, scene);
+  const FolderLock lock(folder);
+  stamps::forget(folder);
+  return mesh(scene, folder, options.quiet, log);
+}
+
+void solve_stage(const std::string& model_path, const StageOptions& options, std::ostream& log) {
+  const std::string folder = folder_beside(options.out, model_path);
+  const FolderLock lock(folder);
+  stamps::forget(folder);
+  solve(model_path, folder, options, log);
+}
+
+int post_stage(const std::string& results_path, const StageOptions& options, std::ostream& log) {
+  const std::string folder = folder_beside(options.out, results_path);
+  const FolderLock lock(folder);
+  stamps::forget(folder);
+  return post(results_path, folder, options.quiet, log);
+}
+
+int run_pipeline(const std::string& scene_path, const StageOptions& options, std::ostream& log) {
+  const Scene scene = load_scene(scene_path, options.overrides);
+  const std::string folder = output_folder(options.out, scene);
+  const FolderLock lock(folder);
+  const fs::path out(folder);
+  const uint64_t mesh_inputs =
+      stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
+  const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
+  const uint64_t post_inputs = stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs));
+  auto up_to_date = [&](const char* stage, uint64_t inputs, const fs::path& output) {
+    const bool same = fs::exists(output) && stamps::recorded(folder, stage) == inputs;
+    if (same && !options.quiet) log << stage << ": inputs unchanged, skipped (" << output.string() << ")\n";
+    return same;
+  };
+  if (!up_to_date("mesh", mesh_inputs, out / "model.h5")) {
+    mesh(scene, folder, options.quiet, log);
+    stamps::record(folder, "mesh", mesh_inputs);
+  }
+  if (options.restart || !up_to_date("solve", solve_inputs, out / "results.h5")) {
+    solve((out / "model.h5").string(), folder, options, log);
+    stamps::record(folder, "solve", solve_inputs);
+  }
+  if (!up_to_date("post", post_inputs, out / "metrics.json")) {
+    const int status = post((out / "results.h5").string(), folder, options.quiet, log);
+    if (status != 0) return status;
+    stamps::record(folder, "post", post_inputs);
+  }
+  return 0;
+}
+
+}  // namespace talus::workflow
