@@ -53,14 +53,15 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
       auto& mine = buffers[omp_get_thread_num()];
 #pragma omp for schedule(static)
       for (long p = 0; p < moving; ++p) {
-        const std::size_t r = S.row(p);
+        const double* N = S.weights(p);
+        const int32_t* nodes = S.nodes(p);
         const int field = grids.field_of(P.body[p]);
         const Grid& grid = grids.fields[field];
         Vec2 u = Vec2::Zero();
-        for (int k = 0; k < W; ++k) u += S.N[r + k] * grid.xpic_term[S.node[r + k]];
+        for (int k = 0; k < W; ++k) u += N[k] * grid.xpic_term[nodes[k]];
         const Vec2 mu = P.m[p] * u;
         NodeBuffer& b = mine[field];
-        for (int k = 0; k < W; ++k) b.p[S.node[r + k]] += S.N[r + k] * mu;
+        for (int k = 0; k < W; ++k) b.p[nodes[k]] += N[k] * mu;
       }
       // term <- (I - S+S) term, added to v*; in thread order, as every reduction.
 #pragma omp for schedule(static)

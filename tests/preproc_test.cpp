@@ -128,6 +128,20 @@ TEST(PreprocScenes, ColumnCollapseTakesItsSizeFromMeshParameters) {
   EXPECT_NEAR(y, 0.1, 0.005);
 }
 
+// A value outside its DefineConstant's Min and Max is refused before gmsh meshes it (gmsh
+// itself would take a = 1e9 and mesh a domain that fills the memory).
+TEST(PreprocScenes, MeshParameterOutsideItsDeclaredRangeIsRefused) {
+  ScratchDir dir("mesh-parameter-range");
+  const std::filesystem::path out = dir.path() / "out";
+  const auto result = testing::run_talus("mesh " + testing::source_path("geometries/column_collapse.toml") +
+                                         " --set mesh.parameters.a=1e9 --out " + out.string());
+  EXPECT_NE(result.status, 0);
+  EXPECT_NE(result.output.find("column_collapse.geo"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("mesh.parameters.a: got 1e+09, expected a value in [0.1, 20]"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "model.h5"));
+}
+
 TEST(PreprocScenes, MeshSizeOverridesTheGeo) {
   const Meshed coarse = mesh_scene("slope", {"mesh.size=0.5"});
   const Meshed fine = mesh_scene("slope", {"mesh.size=0.25"});

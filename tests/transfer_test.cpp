@@ -77,7 +77,7 @@ TEST(Xpic, MatchesItsParticleSpaceDefinitionForEveryOrder) {
     const Stencil& stencil = sim.scratch.stencil;
     for (Eigen::Index p = 0; p < n; ++p)
       for (int k = 0; k < stencil.width; ++k)
-        S(p, stencil.node[stencil.row(p) + k]) += stencil.N[stencil.row(p) + k];
+        S(p, stencil.nodes(p)[k]) += stencil.weights(p)[k];
     const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(P.m.data(), n);
     const Eigen::VectorXd node_mass = S.transpose() * m;
     Eigen::MatrixXd S_plus = Eigen::MatrixXd::Zero(nodes, n);
