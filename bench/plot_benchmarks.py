@@ -1,7 +1,8 @@
-"""Figures of the accuracy and stability benchmarks, from the CSVs the C++ programs write.
+"""Figures of the accuracy, stability and runout benchmarks, from the CSVs the C++ programs write.
 
     /usr/bin/python3 bench/plot_benchmarks.py accuracy OUT_DIR    bench_accuracy_*.png
     /usr/bin/python3 bench/plot_benchmarks.py stability OUT_DIR   bench_stability_energy.png
+    /usr/bin/python3 bench/plot_benchmarks.py runout OUT_DIR      bench_runout_column.png
 
 Needs Debian's python3-matplotlib (hence /usr/bin/python3). A missing CSV is skipped.
 """
@@ -26,6 +27,16 @@ MARKERS = {1: "v", 3: "^", 4: "o", 6: "s", 10: "D"}
 def read_csv(path):
     with open(path, newline="") as f:
         return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def read_column_csv(path):
+    """runout_column.csv: text columns stay text; the runout ratio may be empty (a failed run)."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for row in rows:
+        row["aspect_ratio"] = float(row["aspect_ratio"])
+        row["runout_ratio"] = float(row["runout_ratio"]) if row["runout_ratio"] else ""
+    return rows
 
 
 def plot_error_against_time(rows, scene, path):
@@ -110,8 +121,32 @@ def plot_energy(rows, path):
     plt.close(fig)
 
 
+def plot_column(rows, path):
+    """Runout (L_inf - L0) / L0 against the aspect ratio a, log axes, with Lube et al. (2005)."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    low = [a / 10 for a in range(3, 19)]
+    high = [2.8 + a / 10 for a in range(0, 53)]
+    ax.plot(low, [1.2 * a for a in low], "k-", lw=1.2, label="Lube et al. 2005: 1.2 a (a < 1.8)")
+    ax.plot(high, [1.9 * a ** (2 / 3) for a in high], "k--", lw=1.2, label="1.9 a^(2/3) (a > 2.8)")
+    for name in sorted({r["transfer"] for r in rows}):
+        mine = [r for r in rows if r["transfer"] == name and r["runout_ratio"] != ""]
+        if mine:
+            ax.plot([r["aspect_ratio"] for r in mine], [r["runout_ratio"] for r in mine], "o-", ms=5, lw=0.8,
+                    label=name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("aspect ratio a = H0 / L0")
+    ax.set_ylabel("(L_inf - L0) / L0")
+    ax.set_title("Column collapse: runout against aspect ratio", fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main():
-    if len(sys.argv) != 3 or sys.argv[1] not in ("accuracy", "stability"):
+    if len(sys.argv) != 3 or sys.argv[1] not in ("accuracy", "stability", "runout"):
         print(__doc__, file=sys.stderr)
         return 1
     what, out = sys.argv[1], sys.argv[2]
@@ -128,6 +163,11 @@ def main():
         if os.path.exists(source) and len(read_csv(source)) >= 2:
             written.append(os.path.join(out, "bench_accuracy_slope.png"))
             plot_slope(read_csv(source), written[-1])
+    elif what == "runout":
+        source = os.path.join(out, "runout_column.csv")
+        if os.path.exists(source) and read_column_csv(source):
+            written.append(os.path.join(out, "bench_runout_column.png"))
+            plot_column(read_column_csv(source), written[-1])
     else:
         source = os.path.join(out, "stability_energy.csv")
         if os.path.exists(source):

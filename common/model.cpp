@@ -58,6 +58,9 @@ void write_setting(const h5::File& file, const std::string& group, const char* n
 void write_setting(const h5::File& file, const std::string& group, const char* name, const Eigen::Vector2d& value) {
   h5::set_attribute(file, group, name, std::vector<double>{value.x(), value.y()});
 }
+void write_setting(const h5::File& file, const std::string& group, const char* name, Transfer value) {
+  h5::set_attribute(file, group, name, std::string(transfer_name(value)));
+}
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void write_setting(const h5::File& file, const std::string& group, const char* name, Integer value) {
   h5::set_attribute(file, group, name, static_cast<int64_t>(value));
@@ -73,6 +76,14 @@ void read_setting(const h5::File& file, const std::string& group, const char* na
 }
 void read_setting(const h5::File& file, const std::string& group, const char* name, bool& value) {
   value = h5::get_int(file, group, name) != 0;
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, Transfer& value) {
+  const std::string text = h5::get_string(file, group, name);
+  const auto transfer = transfer_from_name(text);
+  if (!transfer)
+    throw Error(located(file.path(), group + "@" + name,
+                        "unknown transfer '" + text + "' (expected flip, pic_blend, xpic or apic)"));
+  value = *transfer;
 }
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {
@@ -188,7 +199,15 @@ void read_metadata(const h5::File& file, Model& model) {
       throw Error(located(file.path(), "bodies/" + body.name + "@material", "material index out of range"));
 
   RunSettings& run = model.run;
-  for_each_run_setting(run, [&](const char* name, auto& value) { read_setting(file, "settings/run", name, value); });
+  // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0,
+  // and had no xpic_order (2).
+  const bool has_transfer = h5::has_attribute(file, "settings/run", "transfer");
+  for_each_run_setting(run, [&](const char* name, auto& value) {
+    const std::string key = name;
+    if ((key == "transfer" || key == "xpic_order") && !h5::has_attribute(file, "settings/run", name)) return;
+    read_setting(file, "settings/run", name, value);
+  });
+  if (!has_transfer) run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;
   if (const std::string problem = run_settings_problem(run); !problem.empty())
     throw Error(located(file.path(), "", problem));
   if (const std::string problem = output_interval_problem(run); !problem.empty())

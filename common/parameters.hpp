@@ -3,7 +3,7 @@
 // (solver/checkpoint.cpp) all visit these lists, so a new run setting or material parameter
 // is one line here (plus its scene key and its range).
 //
-// visit(name, value) receives a reference to a double, bool, int, long or Eigen::Vector2d;
+// visit(name, value) receives a reference to a double, bool, int, long, Eigen::Vector2d or Transfer;
 // const when the settings are.
 #pragma once
 #include "common/scene.hpp"
@@ -19,7 +19,9 @@ void for_each_run_setting(Run& run, Visit&& visit) {
   visit("gravity_ramp", run.gravity_ramp);
   visit("damping", run.damping);
   visit("evs", run.evs);
+  visit("transfer", run.transfer);
   visit("pic_fraction", run.pic_fraction);
+  visit("xpic_order", run.xpic_order);
   visit("history_interval", run.history_interval);
   visit("rest_ratio", run.rest_ratio);
   visit("rest_window", run.rest_window);

@@ -24,6 +24,22 @@ int Scene::body_index(const std::string& name) const {
   return -1;
 }
 
+const char* transfer_name(Transfer transfer) {
+  switch (transfer) {
+    case Transfer::Flip: return "flip";
+    case Transfer::PicBlend: return "pic_blend";
+    case Transfer::Xpic: return "xpic";
+    case Transfer::Apic: return "apic";
+  }
+  return "";
+}
+
+std::optional<Transfer> transfer_from_name(const std::string& name) {
+  for (Transfer t : {Transfer::Flip, Transfer::PicBlend, Transfer::Xpic, Transfer::Apic})
+    if (name == transfer_name(t)) return t;
+  return std::nullopt;
+}
+
 double pair_friction(const ContactSettings& contact, const std::string& a, const std::string& b) {
   for (const auto& pair : contact.pairs)
     if ((pair.body_a == a && pair.body_b == b) || (pair.body_a == b && pair.body_b == a)) return pair.friction;

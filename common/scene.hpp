@@ -4,6 +4,7 @@
 // The format is documented in docs/scenes.md.
 #pragma once
 #include <Eigen/Core>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,6 +70,17 @@ struct ContactSettings {
 struct MeshSettings {
   std::optional<double> size;    // m; characteristic element size, overrides the .geo
   std::string domain = "domain"; // physical surface meshed as the background grid
+  // [mesh.parameters]: NAME = number sets the .geo's DefineConstant[NAME = {..., Name
+  // "Parameters/NAME"}] (a gmsh ONELAB parameter) before the .geo is read.
+  std::map<std::string, double> parameters;
+};
+
+// How the grid velocities update the particle velocities (docs/transfer.md).
+enum class Transfer {
+  Flip,      // v_p += dt sum N_ip a_i, the seed's (A.10): no dissipation, keeps the grid's null-space noise
+  PicBlend,  // FLIP, then pic_fraction of the way to the grid velocity: damps the noise and the flow
+  Xpic,      // XPIC(m), Hammerquist and Nairn (2017): FLIP less the m-th power of the noise projector
+  Apic,      // APIC, Jiang et al. (2015): the grid velocity and its gradient, an affine particle velocity
 };
 
 struct RunSettings {
@@ -82,10 +94,12 @@ struct RunSettings {
   double gravity_ramp = 0;
   double damping = 0;           // local (Cundall) damping coefficient in [0, 1)
   bool evs = false;             // enhanced volumetric strain (Detournay and Dzik 2006)
-  // Share of the grid (PIC) velocity blended into the particle velocity after each step; 0 is
-  // the seed's pure FLIP update (A.10). A few percent damp the particle velocities that the
-  // grid cannot see (FLIP's null space) and that otherwise never come to rest.
+  Transfer transfer = Transfer::Flip;
+  // PicBlend: share of the grid (PIC) velocity blended into the particle velocity after each
+  // step. A few percent damp the particle velocities that the grid cannot see (FLIP's null
+  // space) and that otherwise never come to rest. Ignored by the other transfers.
   double pic_fraction = 0;
+  int xpic_order = 2;           // Xpic: m >= 1; m = 1 is PIC, larger m approaches FLIP less its noise
   int history_interval = 10;    // steps between energy-history records
   // Stop before end_time once kinetic energy has stayed below rest_ratio x its peak for
   // rest_window seconds (after the peak). rest_ratio = 0 disables it.
@@ -124,6 +138,10 @@ struct Scene {
 
 // Reads and checks a scene file. `overrides` are "dotted.key=value" strings from --set,
 // value in TOML syntax (a bare word is taken as a string). Throws talus::Error.
+// "flip", "pic_blend", "xpic", "apic"; and back (nullopt for an unknown name).
+const char* transfer_name(Transfer transfer);
+std::optional<Transfer> transfer_from_name(const std::string& name);
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // At most this many frames in a run (end_time / output_interval), and as many periodic

@@ -42,6 +42,15 @@ void read_mesh(TableReader& top, Scene& scene) {
   TableReader mesh = top.child(top.table("mesh"), "mesh");
   if (mesh.has("size")) scene.mesh.size = mesh.number("size", std::nullopt, 0, kInf, false);
   scene.mesh.domain = mesh.text("domain", scene.mesh.domain);
+  if (const toml::table* parameters = mesh.table("parameters")) {
+    TableReader values = mesh.child(parameters, "mesh.parameters");
+    for (const auto& [key, node] : *parameters) {
+      const std::string name(key.str());
+      check_name(name, "mesh.parameters." + name, values.file());
+      scene.mesh.parameters[name] = values.number(name, std::nullopt, -kInf, kInf);
+    }
+    values.finish();
+  }
   mesh.finish();
 }
 
@@ -61,7 +70,16 @@ void read_run(TableReader& top, Scene& scene) {
   rs.gravity_ramp = run.number("gravity_ramp", rs.gravity_ramp, 0, kInf);
   rs.damping = run.number("damping", rs.damping, 0, 1, true, false);
   rs.evs = run.boolean("evs", rs.evs);
-  rs.pic_fraction = run.number("pic_fraction", rs.pic_fraction, 0, 1);
+  const std::string transfer = run.text("transfer", transfer_name(rs.transfer));
+  if (!transfer_from_name(transfer))
+    run.fail("transfer", "unknown transfer '" + echoed(transfer) + "' (expected flip, pic_blend, xpic or apic)");
+  rs.transfer = *transfer_from_name(transfer);
+  if (rs.transfer != Transfer::PicBlend && run.has("pic_fraction"))
+    run.fail("pic_fraction", "applies to transfer = \"pic_blend\" only (the transfer is \"" + transfer + "\")");
+  if (rs.transfer == Transfer::PicBlend) rs.pic_fraction = run.number("pic_fraction", 0.05, 0, 1);
+  if (rs.transfer != Transfer::Xpic && run.has("xpic_order"))
+    run.fail("xpic_order", "applies to transfer = \"xpic\" only (the transfer is \"" + transfer + "\")");
+  if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
   rs.history_interval = static_cast<int>(run.integer("history_interval", rs.history_interval, 1, 1000000));
   rs.rest_ratio = run.number("rest_ratio", rs.rest_ratio, 0, 1, true, false);
   rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);

@@ -10,6 +10,7 @@
 
 #include "common/error.hpp"
 #include "preproc/geo_guard.hpp"
+#include "preproc/gmsh_geometry.hpp"
 #include "preproc/gmsh_session.hpp"
 
 namespace talus::preproc {
@@ -151,7 +152,7 @@ SizeEstimate estimate_size(const Scene& scene) {
   check_geo_program(scene.geometry);  // before gmsh parses (and runs) the .geo
   try {
     GmshSession reader;
-    gmsh::open(scene.geometry);
+    open_geometry(scene.geometry, scene.mesh.parameters);
     const std::vector<int> domain = group_entities(scene.mesh.domain, 2);
     if (domain.empty()) return estimate;
     for (int surface : domain) estimate.domain_area += surface_area(surface);

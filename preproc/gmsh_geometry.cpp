@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
+#include <sstream>
 #include <limits>
 
 #include "common/error.hpp"
@@ -117,7 +119,54 @@ std::string GeoMesh::group_names() const {
   return names;
 }
 
-GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by) {
+namespace {
+
+// The number after "key": in a ONELAB entry's JSON text, if there is one.
+std::optional<double> json_number(const std::string& entry, const std::string& key) {
+  const std::string tag = "\"" + key + "\":";
+  const std::size_t at = entry.find(tag);
+  if (at == std::string::npos) return std::nullopt;
+  try {
+    return std::stod(entry.substr(at + tag.size()));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+std::string shown(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+void open_geometry(const std::string& geo_path, const std::map<std::string, double>& parameters) {
+  // Defaults that the .geo may change (it is read after these are set).
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay
+  for (const auto& [name, value] : parameters) gmsh::onelab::setNumber("Parameters/" + name, {value});
+  with_gmsh_errors(geo_path, "read the geometry", [&] { gmsh::open(geo_path); });
+  for (const auto& [name, value] : parameters) {
+    // A parameter that a DefineConstant of the .geo read lists gmsh among its clients.
+    std::string entry;
+    gmsh::onelab::get(entry, "Parameters/" + name);
+    const std::string item = "mesh.parameters." + name;
+    if (entry.find("\"clients\"") == std::string::npos)
+      throw Error(located(geo_path, "", item + ": the geometry declares no such parameter " +
+                                            "(expected DefineConstant[ " + name + " = {VALUE, Name \"Parameters/" +
+                                            name + "\"} ])"));
+    // gmsh keeps a value outside the declared Min and Max; the .geo's author meant them as bounds.
+    const auto low = json_number(entry, "min");
+    const auto high = json_number(entry, "max");
+    if ((low && value < *low) || (high && value > *high))
+      throw Error(located(geo_path, "", item + ": got " + shown(value) + ", expected a value in [" +
+                                            (low ? shown(*low) : "-inf") + ", " + (high ? shown(*high) : "inf") +
+                                            "] (the Min and Max of its DefineConstant)"));
+  }
+}
+
+GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by,
+                      const std::map<std::string, double>& parameters) {
   namespace fs = std::filesystem;
   // gmsh::open of a missing file logs a warning and yields an empty model: check first.
   std::error_code error;
@@ -126,9 +175,7 @@ GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& 
   check_geo_program(geo_path);  // gmsh runs the .geo as it parses it: refuse commands first
 
   GmshSession session;
-  // Defaults that the .geo may change (it is read after these are set).
-  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay
-  with_gmsh_errors(geo_path, "read the geometry", [&] { gmsh::open(geo_path); });
+  open_geometry(geo_path, parameters);
   // What the solver requires, whatever the .geo says: linear triangles only.
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
   gmsh::option::setNumber("Mesh.RecombineAll", 0);

@@ -41,11 +41,17 @@ struct GeoMesh {
   std::string group_names() const;
 };
 
-// Opens `geo_path`, overrides its element sizes with `size` when given, and generates a 2D
-// mesh of linear triangles. Throws talus::Error naming the file, with gmsh's own message when
-// gmsh cannot read or mesh it. `named_by` says where the path came from, for the message
-// about a missing file.
+// In an open gmsh session: reads `geo_path` with the ONELAB numbers "Parameters/NAME" of
+// `parameters` set (after Talus's meshing defaults, which the .geo may change). Throws
+// talus::Error for a parameter the .geo does not declare or a value outside its Min and Max.
+void open_geometry(const std::string& geo_path, const std::map<std::string, double>& parameters);
+
+// Opens `geo_path` with the ONELAB numbers "Parameters/NAME" of `parameters` set, overrides its
+// element sizes with `size` when given, and generates a 2D mesh of linear triangles. Throws
+// talus::Error naming the file, with gmsh's own message when gmsh cannot read or mesh it, and
+// for a parameter the .geo does not declare. `named_by` says where the path came from, for the
+// message about a missing file.
 GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size,
-                      const std::string& named_by = "");
+                      const std::string& named_by = "", const std::map<std::string, double>& parameters = {});
 
 }  // namespace talus::preproc

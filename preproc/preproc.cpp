@@ -164,7 +164,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
   check_size(scene);  // before gmsh meshes: refuse a mesh too large for memory or too coarse for a body
 
   // 1. Mesh.
-  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path);
+  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path, scene.mesh.parameters);
   const Clock::time_point meshed = Clock::now();
 
   // 2. Background mesh.

@@ -16,6 +16,7 @@ struct Grid {
   std::vector<Vec2> a;     // acceleration
   std::vector<Vec2> v;     // velocity after the remap (A.11)
   std::vector<Vec2> mass_gradient;  // sum m_p grad N_ip: the outward normal (contact only)
+  std::vector<Vec2> xpic_term;      // XPIC(m > 1) only: the latest term of its series (transfer.cpp)
 };
 
 struct Grids {

@@ -28,6 +28,7 @@ enum FieldRole : unsigned {
   FIELD(Vec4, sigma, "stress", "Pa", kCheckpointed | kWritten)                   \
   FIELD(double, eps_p, "plastic_strain", "-", kCheckpointed | kWritten)          \
   FIELD(double, history, "", "-", kCheckpointed)                                 \
+  FIELD(Vec4, C, "", "1/s", kCheckpointed)                                       \
   FIELD(int32_t, body, "", "-", kCheckpointed)                                   \
   FIELD(int32_t, element, "", "-", kCheckpointed)                                \
   FIELD(int32_t, id, "", "-", kCheckpointed)
@@ -41,8 +42,9 @@ struct FieldInfo {
 };
 
 // x position (m), v velocity (m/s), m mass (kg/m), volume (m^2 per m thickness), sigma Cauchy
-// stress (Pa), eps_p equivalent plastic shear strain, body and element indices, id the index
-// in the model's (and the results') order. Particles of fixed bodies are kept after all the
+// stress (Pa), eps_p equivalent plastic shear strain, C APIC's affine velocity matrix
+// C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), body and element
+// indices, id the index in the model's (and the results') order. Particles of fixed bodies are kept after all the
 // others (indices [moving_count, size)), so the update loops run over [0, moving_count) only.
 struct Particles {
 #define TALUS_DECLARE_FIELD(type, member, results_name, unit, roles) std::vector<type> member;

@@ -9,13 +9,14 @@
 namespace talus::solver {
 namespace {
 
-void resize_grid(Grid& grid, std::size_t nodes, bool contact) {
+void resize_grid(Grid& grid, std::size_t nodes, bool contact, bool xpic) {
   grid.m.assign(nodes, 0);
   grid.p.assign(nodes, Vec2::Zero());
   grid.f.assign(nodes, Vec2::Zero());
   grid.a.assign(nodes, Vec2::Zero());
   grid.v.assign(nodes, Vec2::Zero());
   if (contact) grid.mass_gradient.assign(nodes, Vec2::Zero());
+  if (xpic) grid.xpic_term.assign(nodes, Vec2::Zero());
 }
 
 // The particles of the model, in model order, each located in its element.
@@ -30,6 +31,7 @@ Particles particles_of(const Model& model, const Config& config) {
   P.eps_p.assign(n, 0);
   for (const auto& material : config.materials) P.history_width = std::max(P.history_width, material.history_width);
   P.history.assign(n * static_cast<std::size_t>(P.history_width), 0);
+  if (config.transfer == Transfer::Apic) P.C.assign(n, Vec4::Zero());  // uniform initial velocities
   P.body = model.body;
   P.element = model.element;
   P.id.resize(n);
@@ -69,8 +71,11 @@ Simulation make_simulation(const Model& model, int threads) {
   config.gravity = model.run.gravity;
   config.gravity_ramp = model.run.gravity_ramp;
   config.damping = model.run.damping;
-  config.pic_fraction = model.run.pic_fraction;
+  config.transfer = model.run.transfer;
+  config.pic_fraction = config.transfer == Transfer::PicBlend ? model.run.pic_fraction : 0.0;
+  config.xpic_order = config.transfer == Transfer::Xpic ? model.run.xpic_order : 1;
   config.evs = model.run.evs;
+  config.initial_volume = model.volume;
   for (const auto& material : model.materials) config.materials.push_back(make_material(material));
   for (const auto& body : model.bodies) {
     config.material_of_body.push_back(body.material);
@@ -101,9 +106,12 @@ Simulation make_simulation(const Model& model, int threads) {
   const std::size_t nodes = config.mesh.node_count();
   scratch.grids.per_body = config.contact;
   scratch.grids.fields.resize(config.contact ? bodies : 1);
-  for (auto& grid : scratch.grids.fields) resize_grid(grid, nodes, config.contact);
+  const bool xpic = config.transfer == Transfer::Xpic && config.xpic_order > 1;
+  for (auto& grid : scratch.grids.fields) resize_grid(grid, nodes, config.contact, xpic);
   scratch.node_stamp.assign(nodes, 0);
   scratch.d_eps.assign(sim.particles.size(), Vec4::Zero());
+  scratch.element_count.assign(config.mesh.element_count(), 0);
+  scratch.isolated.assign(sim.particles.size(), 0);
   if (config.evs) {
     const std::size_t elements = config.mesh.element_count();
     scratch.evs.strain.assign(elements, 0);

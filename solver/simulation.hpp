@@ -29,8 +29,11 @@ struct Config {
   Vec2 gravity{0, -9.81};    // full gravity (m/s^2)
   double gravity_ramp = 0;   // s; see RunSettings::gravity_ramp
   double damping = 0;        // local (Cundall) damping coefficient
-  double pic_fraction = 0;   // share of the grid velocity in the particle velocity (0: FLIP)
+  Transfer transfer = Transfer::Flip;  // grid to particle velocity update (docs/transfer.md)
+  double pic_fraction = 0;   // PicBlend only: share of the grid velocity in the particle velocity
+  int xpic_order = 1;        // Xpic only: m
   bool evs = false;          // enhanced volumetric strain
+  std::vector<double> initial_volume;  // m^2, by particle id: the cap on its growth (step.hpp)
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
 };
@@ -52,6 +55,8 @@ struct Scratch {
   std::vector<int32_t> node_stamp;   // == stamp: node active this step
   int32_t stamp = 0;
   std::vector<Vec4> d_eps;           // this step's strain increment per particle
+  std::vector<int32_t> element_count;  // particles per element this step
+  std::vector<uint8_t> isolated;     // per particle: alone in its element (isolated.cpp)
   EvsScratch evs;
   std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
   // Problems found inside parallel loops, reported after them (-1: none).

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -15,19 +16,30 @@ bool step(Simulation& sim, double dt) {
   const ContactRules contact{c.pair_friction, c.body_fixed, c.constraints};
 
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(P, s.stencil, gravity_at(c, sim.time), s.grids, s.buffers, threads);
+  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.grids, s.buffers, threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
     find_contact_nodes(s.grids, s.contact_nodes);
     apply_contact(contact, dt, s.contact_nodes, s.grids, threads);
   }
-  update_particle_velocities(P, s.stencil, dt, s.grids, s.buffers, threads);
+  if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
+    // The particles take a grid velocity rather than its increment: PIC's v_i + dt a_i, which
+    // XPIC(m) then extends with the part of the particle velocities the grid can represent.
+    lagrangian_grid_velocities(dt, s.grids, threads);
+    if (c.xpic_order > 1) {
+      add_xpic_terms(P, s.stencil, c.constraints, c.xpic_order, s.grids, s.buffers, threads);
+      if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
+    }
+  }
+  update_particle_velocities(P, s.stencil, c.mesh.nodes, c.transfer, dt, s.grids, s.buffers, threads);
   remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, threads);
   if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
-  s.bad_particle = update_stresses(P, s.d_eps, c.materials, c.material_of_body, threads);
+  find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);
+  s.bad_particle = update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
+                                  threads);
   s.lost_particle = relocate_particles(c.mesh, P, s.stencil, threads);
   sim.time += dt;
   ++sim.steps;
@@ -53,11 +65,12 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
     if (node_stamp[i] == current) grids.active.push_back(i);
 }
 
-void particles_to_grid(const Particles& P, const Stencil& S, const Vec2& g, Grids& grids, ThreadBuffers& buffers,
-                       int threads) {
+void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
+                       Grids& grids, ThreadBuffers& buffers, int threads) {
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
   const bool gradients = grids.per_body;
+  const bool affine = !P.C.empty();  // APIC
   with_width(S, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
@@ -84,6 +97,11 @@ void particles_to_grid(const Particles& P, const Stencil& S, const Vec2& g, Grid
         const int32_t i = nodes[k];
         b.m[i] += N[k] * m;                                    // (A.6), lumped
         b.p[i] += N[k] * mv;
+        if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
+          const Vec4& C = P.C[p];
+          const Vec2 d = x_i[i] - P.x[p];
+          b.p[i] += N[k] * m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y());
+        }
         b.f[i] += N[k] * m * g                                 // (A.7)
                   - V * Vec2(s[0] * dN_k.x() + s[3] * dN_k.y(), s[3] * dN_k.x() + s[1] * dN_k.y());  // (A.8)
         if (gradients) b.mass_gradient[i] += m * dN_k;
@@ -155,8 +173,18 @@ void update_grid_accelerations(const Constraints& constraints, const std::vector
   }
 }
 
-void update_particle_velocities(Particles& P, const Stencil& S, double dt, const Grids& grids, ThreadBuffers& buffers,
-                                int threads) {
+namespace {
+
+// The velocity update of one transfer scheme, and the momentum for the remap (A.11) scattered
+// in the same pass. Flip and PicBlend add the grid acceleration (A.10); Xpic and Apic take the
+// velocity left in grid.v; Apic also takes its gradient as the affine matrix C_p (Jiang et al.
+// 2015, with grad N for linear elements) and carries it into the remap's momentum,
+// m_p (v_p + C_p (x_i - x_p)).
+template <Transfer kTransfer>
+void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, double dt, const Grids& grids,
+                         ThreadBuffers& buffers, int threads) {
+  constexpr bool kIncrement = kTransfer == Transfer::Flip || kTransfer == Transfer::PicBlend;
+  constexpr bool kAffine = kTransfer == Transfer::Apic;
   const long moving = static_cast<long>(P.moving_count);
   with_width(S, [&](auto W) {
 #pragma omp parallel num_threads(threads)
@@ -168,16 +196,51 @@ void update_particle_velocities(Particles& P, const Stencil& S, double dt, const
       const int32_t* nodes = S.nodes(p);
       const int field = grids.field_of(P.body[p]);
       const Grid& grid = grids.fields[field];
-      Vec2 a = Vec2::Zero();
-      for (int k = 0; k < W; ++k) a += N[k] * grid.a[nodes[k]];
-      P.v[p] += dt * a;  // (A.10)
+      if constexpr (kIncrement) {
+        Vec2 a = Vec2::Zero();
+        for (int k = 0; k < W; ++k) a += N[k] * grid.a[nodes[k]];
+        P.v[p] += dt * a;  // (A.10)
+      } else {
+        const Vec2* dN = S.gradients(p);
+        Vec2 v = Vec2::Zero();
+        Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+        for (int k = 0; k < W; ++k) {
+          const Vec2& vi = grid.v[nodes[k]];
+          v += N[k] * vi;
+          if constexpr (kAffine) C += vi * dN[k].transpose();
+        }
+        P.v[p] = v;
+        if constexpr (kAffine) P.C[p] = Vec4(C(0, 0), C(0, 1), C(1, 0), C(1, 1));
+      }
       // Momentum for the remap (A.11), scattered in the same pass.
       NodeBuffer& b = mine[field];
-      const Vec2 mv = P.m[p] * P.v[p];
-      for (int k = 0; k < W; ++k) b.p[nodes[k]] += N[k] * mv;
+      const double m = P.m[p];
+      const Vec2 mv = m * P.v[p];
+      for (int k = 0; k < W; ++k) {
+        const int32_t i = nodes[k];
+        if constexpr (kAffine) {
+          const Vec4& C = P.C[p];
+          const Vec2 d = x_i[i] - P.x[p];
+          b.p[i] += N[k] * (mv + m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y()));
+        } else {
+          b.p[i] += N[k] * mv;
+        }
+      }
     }
   }
   });
+}
+
+}  // namespace
+
+void update_particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, Transfer transfer,
+                                double dt, const Grids& grids, ThreadBuffers& buffers, int threads) {
+  switch (transfer) {
+    case Transfer::Flip: return particle_velocities<Transfer::Flip>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::PicBlend: return particle_velocities<Transfer::PicBlend>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::Xpic: return particle_velocities<Transfer::Xpic>(P, S, x_i, dt, grids, buffers, threads);
+    case Transfer::Apic: return particle_velocities<Transfer::Apic>(P, S, x_i, dt, grids, buffers, threads);
+  }
 }
 
 void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
@@ -221,6 +284,7 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
     }
     P.x[p] += dt * v;  // (A.12)
     P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
+
     d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
     // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
     const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
@@ -233,17 +297,22 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
   });
 }
 
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<MaterialState>& materials,
-                     const std::vector<int32_t>& material_of_body, int threads) {
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
+                     const std::vector<double>& initial_volume, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history = static_cast<std::size_t>(P.history_width);
   long bad = -1;
 #pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
-    const MaterialState& material = materials[material_of_body[P.body[p]]];
-    const Vec4& d = d_eps[p];
-    update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
-    P.volume[p] *= 1 + d[0] + d[1] + d[2];
+    if (isolated[p]) {
+      P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
+    } else {
+      const MaterialState& material = materials[material_of_body[P.body[p]]];
+      const Vec4& d = d_eps[p];
+      update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+      P.volume[p] = std::min(P.volume[p] * (1 + d[0] + d[1] + d[2]), kMaxVolumeGrowth * initial_volume[P.id[p]]);
+    }
     if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
   }
   return bad;

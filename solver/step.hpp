@@ -20,17 +20,31 @@ void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vecto
 
 // (A.6)-(A.8): mass, momentum and force of each velocity field at the active nodes; with
 // contact also the mass gradients. Particles of fixed bodies lend their mass (and normals) only.
-void particles_to_grid(const Particles& P, const Stencil& stencil, const Vec2& gravity, Grids& grids,
-                       ThreadBuffers& buffers, int threads);
+// With APIC the momentum carries each particle's affine part, m_p C_p (x_i - x_p), for which
+// it needs the node positions x_i.
+void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& gravity,
+                       Grids& grids, ThreadBuffers& buffers, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
 // satisfies the constraints. A fixed body's field does not move.
 void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& body_fixed,
                                double damping, double dt, Grids& grids, int threads);
 
-// (A.10): v_p += dt sum N_ip a_i, and the momentum for the remap scattered in the same pass.
-void update_particle_velocities(Particles& P, const Stencil& stencil, double dt, const Grids& grids,
-                                ThreadBuffers& buffers, int threads);
+// XPIC and APIC only (transfer.cpp): grid.v = v_i + dt a_i, PIC's velocity (with the
+// lumped-mass v_i = p_i / m_i of P2G), constrained as the accelerations are.
+void lagrangian_grid_velocities(double dt, Grids& grids, int threads);
+
+// XPIC(m), m > 1 (transfer.cpp; Hammerquist and Nairn 2017): adds sum_{k=1}^{m-1} (I - S+S)^k v_i
+// to grid.v, with S+S v_i = sum_p m_p N_ip (sum_j N_jp v_j) / m_i, and constrains the result.
+void add_xpic_terms(const Particles& P, const Stencil& stencil, const Constraints& constraints, int order,
+                    Grids& grids, ThreadBuffers& buffers, int threads);
+
+// The particle velocities from the grid (docs/transfer.md), and the momentum for the remap
+// scattered in the same pass. Flip and PicBlend: (A.10), v_p += dt sum N_ip a_i. Xpic and Apic:
+// v_p = sum N_ip v_i with the velocities the two phases above left in grid.v; Apic also sets
+// C_p = sum v_i (grad N_ip)^T from them and scatters m_p (v_p + C_p (x_i - x_p)).
+void update_particle_velocities(Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, Transfer transfer,
+                                double dt, const Grids& grids, ThreadBuffers& buffers, int threads);
 
 // (A.11): v_i = sum N_ip m_p v_p / m_i, constrained.
 void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
@@ -47,10 +61,24 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
                                const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
                                int threads);
 
-// The materials' stress update and the volume update V_p *= 1 + tr d_eps. Returns the first
-// particle whose state became non-finite or inverted, or -1.
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<MaterialState>& materials,
-                     const std::vector<int32_t>& material_of_body, int threads);
+// Flags the moving particles alone in their element that fill less than half of it
+// (isolated.cpp): grains in free flight, which carry no stress.
+void find_isolated_particles(const Mesh& mesh, const Particles& P, std::vector<int32_t>& element_count,
+                             std::vector<uint8_t>& isolated, int threads);
+
+// A particle's volume grows to at most this many times its initial volume. Elastic strains and
+// a sand's dilation stay well below; beyond it a material pulled apart (a frictional one at the
+// apex of its cone, without stress) opens gaps between its particles instead of inflating them.
+// Uncapped, a grain that left the column collapse grew to 10-100 times its volume, and the next
+// compression, acting through V_p sigma_p, threw it out of the mesh (docs/transfer.md).
+inline constexpr double kMaxVolumeGrowth = 1.2;
+
+// The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
+// kMaxVolumeGrowth V_p(0); an isolated particle instead drops its stress and keeps its volume.
+// Returns the first particle whose state became non-finite or inverted, or -1.
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
+                     const std::vector<double>& initial_volume, int threads);
 
 // Finds each moving particle's element (neighbour walk) and recomputes its stencil row.
 // Returns the first particle that left the domain, or -1.

@@ -114,6 +114,34 @@ TEST(PreprocScenes, SlopeFillsTheSoilExactlyWithRollerSidesAndFixedBase) {
   EXPECT_TRUE(m.model.node_sets.count("top"));  // every named curve is a node set
 }
 
+// [mesh.parameters] reach the .geo's DefineConstant: the column is a L0 x a L0 rectangle.
+TEST(PreprocScenes, ColumnCollapseTakesItsSizeFromMeshParameters) {
+  const Meshed m = mesh_scene("column_collapse", {"mesh.parameters.a=2", "mesh.parameters.L0=0.05"});
+  double x = 0, y = 0, volume = 0;
+  for (std::size_t p = 0; p < m.model.particle_count(); ++p) {
+    x = std::max(x, m.model.position[p].x());
+    y = std::max(y, m.model.position[p].y());
+    volume += m.model.volume[p];
+  }
+  EXPECT_NEAR(volume, 2 * 0.05 * 0.05, 1e-12);
+  EXPECT_NEAR(x, 0.05, 0.005);
+  EXPECT_NEAR(y, 0.1, 0.005);
+}
+
+// A value outside its DefineConstant's Min and Max is refused before gmsh meshes it (gmsh
+// itself would take a = 1e9 and mesh a domain that fills the memory).
+TEST(PreprocScenes, MeshParameterOutsideItsDeclaredRangeIsRefused) {
+  ScratchDir dir("mesh-parameter-range");
+  const std::filesystem::path out = dir.path() / "out";
+  const auto result = testing::run_talus("mesh " + testing::source_path("geometries/column_collapse.toml") +
+                                         " --set mesh.parameters.a=1e9 --out " + out.string());
+  EXPECT_NE(result.status, 0);
+  EXPECT_NE(result.output.find("column_collapse.geo"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("mesh.parameters.a: got 1e+09, expected a value in [0.1, 20]"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "model.h5"));
+}
+
 TEST(PreprocScenes, MeshSizeOverridesTheGeo) {
   const Meshed coarse = mesh_scene("slope", {"mesh.size=0.5"});
   const Meshed fine = mesh_scene("slope", {"mesh.size=0.25"});
@@ -293,6 +321,16 @@ TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
       {"zero mesh size by --set", [](BlockScene&) {}, "--set mesh.size=0", {"block.toml", "mesh.size"}},
       {"--set of a key that does not exist", [](BlockScene&) {}, "--set run.end_tme=2",
        {"block.toml", "run.end_tme", "end_time"}},
+      {"unknown transfer", [](BlockScene&) {}, "--set run.transfer=flop",
+       {"block.toml", "run.transfer", "flop", "xpic"}},
+      {"pic_fraction without the PIC blend", [](BlockScene&) {}, "--set run.transfer=xpic --set run.pic_fraction=0.1",
+       {"block.toml", "run.pic_fraction", "pic_blend"}},
+      {"xpic_order without XPIC", [](BlockScene&) {}, "--set run.transfer=apic --set run.xpic_order=3",
+       {"block.toml", "run.xpic_order", "xpic"}},
+      {"XPIC of order 0", [](BlockScene&) {}, "--set run.transfer=xpic --set run.xpic_order=0",
+       {"block.toml", "run.xpic_order", "[1, 100]"}},
+      {"a .geo parameter the .geo does not declare", [](BlockScene&) {}, "--set mesh.parameters.width=2",
+       {"block.geo", "mesh.parameters.width", "DefineConstant"}},
   };
   // The unchanged scene is valid, so each rejection below comes from its one change.
   const Rejection valid = run_mesh(BlockScene{});

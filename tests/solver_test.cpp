@@ -41,7 +41,8 @@ void map_to_grid(Simulation& sim) {
   Scratch& s = sim.scratch;
   const int threads = sim.config.threads;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(sim.particles, s.stencil, gravity_at(sim.config, sim.time), s.grids, s.buffers, threads);
+  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), s.grids, s.buffers,
+                    threads);
 }
 
 }  // namespace
@@ -114,7 +115,7 @@ TEST(GridTransfer, ParticleToGridConservesMassAndMomentum) {
   Scratch& s = sim.scratch;
   const Config& c = sim.config;
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, 0.0, s.grids, c.threads);
-  update_particle_velocities(sim.particles, s.stencil, 0.0, s.grids, s.buffers, c.threads);
+  update_particle_velocities(sim.particles, s.stencil, c.mesh.nodes, c.transfer, 0.0, s.grids, s.buffers, c.threads);
   remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, c.threads);
   Vec2 remapped = Vec2::Zero();
   for (int32_t i : grids.active) remapped += grid.m[i] * grid.v[i];

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -153,6 +154,32 @@ Material elastic(double density, double youngs_modulus, double poisson_ratio) {
   m.youngs_modulus = youngs_modulus;
   m.poisson_ratio = poisson_ratio;
   return m;
+}
+
+ColumnDeposit column_deposit(const std::vector<Eigen::Vector2d>& positions, double bin) {
+  std::vector<bool> occupied;
+  for (const auto& x : positions) {
+    const std::size_t k = static_cast<std::size_t>(std::max(0.0, x.x()) / bin);
+    if (k >= occupied.size()) occupied.resize(k + 1, false);
+    occupied[k] = true;
+  }
+  const std::size_t gap = std::find(occupied.begin(), occupied.end(), false) - occupied.begin();
+  ColumnDeposit deposit;
+  for (const auto& x : positions) {
+    if (static_cast<std::size_t>(std::max(0.0, x.x()) / bin) >= gap) {
+      ++deposit.detached;
+      continue;
+    }
+    deposit.tip = std::max(deposit.tip, x.x());
+    deposit.height = std::max(deposit.height, x.y());
+  }
+  return deposit;
+}
+
+std::optional<double> lube_runout(double a) {
+  if (a < 1.8) return 1.2 * a;
+  if (a > 2.8) return 1.9 * std::pow(a, 2.0 / 3.0);
+  return std::nullopt;
 }
 
 Material mohr_coulomb(double density, double youngs_modulus, double poisson_ratio, double friction_angle,

@@ -2,7 +2,9 @@
 // models generated in code (no pasted tables).
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "common/model.hpp"
 
@@ -52,6 +54,20 @@ int add_disc_body(Model& model, const std::string& name, const Material& materia
 // Fixes the "bottom" node set and puts the "left" and "right" sets on rollers (normal x), the
 // usual support of a column or block on rectangle_mesh.
 void fix_base_roll_sides(Model& model);
+
+// The deposit of a column collapse against a wall at x = 0 (docs/column.md): bins `bin` wide
+// from the wall out to the first empty bin hold the deposit; its tip is the furthest particle in
+// them and its height the highest. Particles beyond that gap are detached and only counted.
+struct ColumnDeposit {
+  double tip = 0;     // L_inf, m from the wall
+  double height = 0;  // H_inf, m
+  int detached = 0;
+};
+ColumnDeposit column_deposit(const std::vector<Eigen::Vector2d>& positions, double bin);
+
+// Lube et al. (2005), Phys. Rev. E 72, 041301, 2D columns: (L_inf - L0) / L0 = 1.2 a for
+// a < 1.8 and 1.9 a^(2/3) for a > 2.8; no value in the transition between.
+std::optional<double> lube_runout(double aspect_ratio);
 
 // A linear elastic material.
 Material elastic(double density, double youngs_modulus, double poisson_ratio);

@@ -1,0 +1,287 @@
+// Runout benchmark (docs/column.md, docs/transfer.md): each velocity transfer on the column
+// collapse against Lube et al. (2005), on the slope at several element sizes, and on a freely
+// vibrating elastic cantilever (energy lost per period). Every run is in-process.
+//
+//   talus_bench_runout                                 all three parts, the default transfers
+//   talus_bench_runout --only column --aspect 0.5,1,3,6 --transfers xpic2
+//   talus_bench_runout --only slope --sizes 0.5,0.25,0.125
+//
+// Writes runout_column.csv, runout_slope.csv, runout_vibration.csv, runout.md and
+// bench_runout_column.png (bench/plot_benchmarks.py) to --out (default out/bench).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "bench_support.hpp"
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "common/scene.hpp"
+#include "postproc/output.hpp"
+#include "postproc/postproc.hpp"
+#include "solver/step.hpp"
+#include "support/test_support.hpp"
+
+namespace talus {
+namespace {
+
+using bench::fixed;
+using bench::general;
+
+// A transfer as a name and its --set overrides: flip, pic_blend (0.05), xpicM, apic.
+struct TransferChoice {
+  std::string name;
+  std::vector<std::string> overrides;
+  Transfer transfer = Transfer::Flip;
+  int order = 1;
+};
+
+TransferChoice transfer_choice(const std::string& name) {
+  TransferChoice t{name, {}, Transfer::Flip, 1};
+  if (name.rfind("xpic", 0) == 0) {
+    t.transfer = Transfer::Xpic;
+    t.order = std::atoi(name.c_str() + 4);
+    if (t.order < 1) throw Error("--transfers: expected xpicM with M >= 1, got " + name);
+    t.overrides = {"run.transfer=xpic", "run.xpic_order=" + std::to_string(t.order)};
+  } else if (const auto transfer = transfer_from_name(name)) {
+    t.transfer = *transfer;
+    t.overrides = {"run.transfer=" + name};
+  } else {
+    throw Error("--transfers: unknown transfer '" + name + "' (flip, pic_blend, xpicM, apic)");
+  }
+  return t;
+}
+
+struct Options {
+  std::vector<std::string> parts = {"column", "slope", "vibration"};
+  std::vector<std::string> transfers = {"flip", "pic_blend", "xpic2", "xpic5", "apic"};
+  std::vector<double> aspect = {0.5, 3};
+  std::vector<double> sizes = {0.5, 0.25};
+  std::vector<std::string> overrides;  // --set, for every column and slope run
+  std::string out = "out/bench";
+  int threads = 1;
+  bool plots = true;
+};
+
+// The column's length for aspect ratio a: the same column area, 0.02 m^2, at every a (0.2 m at
+// a = 0.5, 0.058 m at a = 6), so that every run has about 7,500 particles (4 per 5 mm triangle).
+double column_length(double a) { return std::sqrt(0.02 / a); }
+
+std::vector<Eigen::Vector2d> last_frame(const std::string& results) {
+  const h5::File file = h5::File::open_read(results);
+  h5::Dims dims;
+  const std::vector<double> flat = h5::read_doubles(file, "frames/position", &dims);
+  const std::size_t n = dims[1], last = dims[0] - 1;
+  std::vector<Eigen::Vector2d> x(n);
+  for (std::size_t p = 0; p < n; ++p) x[p] = {flat[(last * n + p) * 2], flat[(last * n + p) * 2 + 1]};
+  return x;
+}
+
+void run_column(const Options& options, std::ostringstream& md) {
+  std::vector<std::vector<std::string>> rows;
+  md << "## Column collapse (geometries/column_collapse.toml, 5 mm triangles";
+  for (const auto& o : options.overrides) md << ", " << o;
+  md << ")\n\n"
+     << "| transfer | a | L0 (m) | particles | steps | wall (s) | (L_inf - L0)/L0 | Lube | error | H_inf / H0 | "
+        "detached | outcome |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+  for (const auto& name : options.transfers) {
+    const TransferChoice t = transfer_choice(name);
+    for (double a : options.aspect) {
+      const double L0 = column_length(a), H0 = a * L0;
+      std::vector<std::string> overrides = t.overrides;
+      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      overrides.push_back("mesh.parameters.a=" + general(a, 6));
+      overrides.push_back("mesh.parameters.L0=" + general(L0, 6));
+      std::fprintf(stderr, "column %s a = %g ...", name.c_str(), a);
+      bench::Scratch scratch("column");
+      std::string outcome = "at rest", ratio = "", error = "", height = "", detached = "";
+      bench::TimedRun run;
+      try {
+        run = bench::run_scene(bench::scene_path("column_collapse"), overrides, scratch.path().string(),
+                               options.threads);
+        if (!run.summary.stopped_at_rest) outcome = "not at rest by end_time";
+        const auto deposit = testing::column_deposit(last_frame(scratch.file("results.h5")), 0.005);
+        const double r = (deposit.tip - L0) / L0;
+        ratio = fixed(r, 3);
+        if (const auto law = testing::lube_runout(a)) error = fixed(100 * (r / *law - 1), 1) + "%";
+        height = fixed(deposit.height / H0, 3);
+        detached = std::to_string(deposit.detached);
+      } catch (const Error& e) {
+        outcome = e.what();
+      }
+      const auto law = testing::lube_runout(a);
+      std::fprintf(stderr, " %s %s\n", ratio.c_str(), outcome.c_str());
+      rows.push_back({name, general(a, 4), general(L0, 4), std::to_string(run.summary.particles),
+                      std::to_string(run.summary.steps), fixed(run.wall_seconds, 1), ratio,
+                      law ? fixed(*law, 3) : "", error, height, detached, outcome});
+      md << "| " << rows.back()[0];
+      for (std::size_t k = 1; k < rows.back().size(); ++k) md << " | " << rows.back()[k];
+      md << " |\n";
+    }
+  }
+  std::ofstream csv((std::filesystem::path(options.out) / "runout_column.csv").string());
+  csv << "transfer,aspect_ratio,L0_m,particles,steps,wall_s,runout_ratio,lube,error,height_ratio,detached,outcome\n";
+  for (const auto& row : rows) {
+    for (std::size_t k = 0; k < row.size(); ++k) csv << (k ? "," : "") << (k + 1 == row.size() ? "\"" + row[k] + "\"" : row[k]);
+    csv << "\n";
+  }
+  md << "\nL_inf: the deposit's tip, bins 5 mm wide from the wall out to the first empty one (particles "
+        "beyond are 'detached'). H_inf: the deposit's highest particle over H0 = a L0.\n\n";
+}
+
+void run_slope(const Options& options, std::ostringstream& md) {
+  md << "## Slope runout (geometries/slope.toml) against element size\n\n"
+     << "| transfer | mesh size (m) | particles | steps | wall (s) | runout (m) |\n|---|---:|---:|---:|---:|---:|\n";
+  std::ofstream csv((std::filesystem::path(options.out) / "runout_slope.csv").string());
+  csv << "transfer,mesh_size_m,particles,steps,wall_s,runout_m\n";
+  for (const auto& name : options.transfers) {
+    const TransferChoice t = transfer_choice(name);
+    for (double size : options.sizes) {
+      std::vector<std::string> overrides = t.overrides;
+      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      overrides.push_back("mesh.size=" + general(size, 6));
+      std::fprintf(stderr, "slope %s %g m ...", name.c_str(), size);
+      bench::Scratch scratch("slope");
+      std::string runout = "failed";
+      bench::TimedRun run;
+      try {
+        run = bench::run_scene(bench::scene_path("slope"), overrides, scratch.path().string(), options.threads);
+        postproc::PostOptions post;
+        post.figures = false;
+        std::ostringstream log;
+        postproc::run_post(scratch.file("results.h5"), scratch.path().string(), log, post);
+        std::ifstream in(scratch.file("metrics.json"));
+        std::stringstream json;
+        json << in.rdbuf();
+        if (const auto r = bench::json_number(json.str(), "runout_distance_m")) runout = fixed(*r, 2);
+      } catch (const Error& e) {
+        runout = std::string("failed: ") + e.what();
+      }
+      std::fprintf(stderr, " %s\n", runout.c_str());
+      md << "| " << name << " | " << general(size, 4) << " | " << run.summary.particles << " | " << run.summary.steps
+         << " | " << fixed(run.wall_seconds, 1) << " | " << runout << " |\n";
+      csv << name << "," << size << "," << run.summary.particles << "," << run.summary.steps << ","
+          << run.wall_seconds << ",\"" << runout << "\"\n";
+    }
+  }
+  md << "\n";
+}
+
+// A cantilever 1 m long and 0.1 m deep (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3, 0.025 m cells,
+// 4 particles per cell), clamped at x = 0, no gravity, set swinging with v_y = 0.05 (x / L)^2 m/s.
+// Energy = particle kinetic + strain energy, over 4 first-mode periods.
+void run_vibration(const Options& options, std::ostringstream& md) {
+  const double L = 1, h = 0.1, cell = 0.025, E = 1e6, nu = 0.3, rho = 1000;
+  const double E_plane = E / (1 - nu * nu);
+  const double period = 2 * M_PI / (1.8751 * 1.8751 * std::sqrt(E_plane * h * h * h / 12 / (rho * h * std::pow(L, 4))));
+  md << "## Elastic vibration: a clamped cantilever swinging freely\n\n"
+     << "L = 1 m, depth 0.1 m, E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3, 0.025 m cells, 4 particles per cell, "
+        "v_y = 0.05 (x/L)^2 m/s at t = 0, no gravity; first bending period (Euler-Bernoulli) "
+     << fixed(period, 3) << " s; 4 periods.\n\n"
+     << "| transfer | steps | energy left after 4 periods | loss per period |\n|---|---:|---:|---:|\n";
+  std::ofstream csv((std::filesystem::path(options.out) / "runout_vibration.csv").string());
+  csv << "transfer,steps,energy_left,loss_per_period\n";
+  for (const auto& name : options.transfers) {
+    const TransferChoice t = transfer_choice(name);
+    Model model = testing::rectangle_mesh(0, -2 * cell, static_cast<int>(L / cell) + 2, static_cast<int>(h / cell) + 4, cell);
+    testing::add_box_body(model, "beam", testing::elastic(rho, E, nu), 0, L, 0, h);
+    for (int32_t i : model.node_sets["left"]) model.fixed_nodes.push_back(i);
+    for (std::size_t p = 0; p < model.particle_count(); ++p)
+      model.velocity[p] = {0, 0.05 * std::pow(model.position[p].x() / L, 2)};
+    testing::set_run(model, 4 * period);
+    model.run.transfer = t.transfer;
+    model.run.xpic_order = t.order;
+    model.run.pic_fraction = t.transfer == Transfer::PicBlend ? 0.05 : 0;
+    solver::Simulation sim = solver::make_simulation(model, options.threads);
+    auto total = [&] {
+      const auto e = solver::energies(sim);
+      return e.kinetic + e.strain;
+    };
+    const double start = total();
+    const double dt = solver::stable_time_step(sim, 0.5);
+    bool ok = true;
+    while (ok && sim.time < 4 * period) ok = solver::step(sim, dt);
+    const double left = ok ? total() / start : NAN;
+    const double per_period = 1 - std::pow(left, 0.25);
+    std::fprintf(stderr, "vibration %s: %.4f left\n", name.c_str(), left);
+    md << "| " << name << " | " << sim.steps << " | " << fixed(100 * left, 2) << "% | " << fixed(100 * per_period, 2)
+       << "% |\n";
+    csv << name << "," << sim.steps << "," << left << "," << per_period << "\n";
+  }
+  md << "\n";
+}
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) out.push_back(item);
+  return out;
+}
+
+std::vector<double> numbers(const std::string& text) {
+  std::vector<double> out;
+  for (const auto& item : split(text)) out.push_back(std::stod(item));
+  return out;
+}
+
+int usage(const char* self, int status) {
+  std::fprintf(status ? stderr : stdout,
+               "usage: %s [--only column|slope|vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
+               "          [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
+               "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic\n"
+               "  --aspect     column aspect ratios (default 0.5,3)\n"
+               "  --sizes      slope element sizes in m (default 0.5,0.25)\n"
+               "  --set        a scene override for every column and slope run\n",
+               self);
+  return status;
+}
+
+}  // namespace
+}  // namespace talus
+
+int main(int argc, char** argv) {
+  using namespace talus;
+  Options options;
+  std::string command = "talus bench runout";
+  for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      const bool has_value = i + 1 < argc;
+      if (arg == "--only" && has_value) options.parts = split(argv[++i]);
+      else if (arg == "--transfers" && has_value) options.transfers = split(argv[++i]);
+      else if (arg == "--aspect" && has_value) options.aspect = numbers(argv[++i]);
+      else if (arg == "--sizes" && has_value) options.sizes = numbers(argv[++i]);
+      else if (arg == "--set" && has_value) options.overrides.push_back(argv[++i]);
+      else if (arg == "--out" && has_value) options.out = argv[++i];
+      else if (arg == "--threads" && has_value) options.threads = std::max(1, std::atoi(argv[++i]));
+      else if (arg == "--no-plots") options.plots = false;
+      else return usage(argv[0], arg == "--help" || arg == "-h" ? 0 : 1);
+    }
+    for (const auto& name : options.transfers) transfer_choice(name);  // reject bad names before running
+    std::filesystem::create_directories(options.out);
+    std::ostringstream md;
+    md << "# Runout benchmark\n\n";
+    const double start = bench::now_seconds();
+    for (const auto& part : options.parts) {
+      if (part == "column") run_column(options, md);
+      else if (part == "slope") run_slope(options, md);
+      else if (part == "vibration") run_vibration(options, md);
+      else return usage(argv[0], 1);
+    }
+    md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()
+       << " in " << fixed(bench::now_seconds() - start, 0) << " s.\n";
+    const std::string md_path = (std::filesystem::path(options.out) / "runout.md").string();
+    postproc::write_file_atomically(md_path, md.str());
+    std::printf("%s", md.str().c_str());
+    if (options.plots && bench::run_plot_script({"runout", options.out}) != 0) {
+      std::fprintf(stderr, "talus_bench_runout: the plots failed\n");
+      return 1;
+    }
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "talus_bench_runout: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}
