@@ -51,4 +51,12 @@ TEST(ColumnCollapse, RunsToRestWithinFifteenPercentOfLubesLawAndKeepsItsTop) {
   // measured on the same particle rows (the highest particle sits h/6 below H0).
   EXPECT_NEAR(deposit.height / top, 1.0, 0.01);
   EXPECT_LE(deposit.detached, 5) << "grains thrown clear of the deposit";
+
+  // What a user reads: talus post's runout from the released face's foot (x = L0), and the
+  // final height, against the same law and the same top.
+  const std::string metrics = talus::testing::read_text(dir.file("metrics.json"));
+  const double post_runout = talus::testing::json_number(metrics, "runout_distance_m") / L0;
+  EXPECT_NEAR(post_runout / law, 1.0, 0.15) << metrics;
+  EXPECT_NEAR(talus::testing::json_number(metrics, "final_height_m") / top, 1.0, 0.01) << metrics;
+  EXPECT_NE(metrics.find("\"toe_m\": [0.2, 0]"), std::string::npos) << metrics;
 }

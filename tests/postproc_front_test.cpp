@@ -81,19 +81,6 @@ TEST(Front, AVerticalCliffsToeIsTheFootOfItsFace) {
   EXPECT_THROW(slope_profile({{0, 0}, {10, 0}, {10, 2}, {3, 2}, {4, 8}, {0, 8}}), Error);
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-double number(const std::string& json, const std::string& key) {
-  const std::size_t at = json.find("\"" + key + "\": ");
-  EXPECT_NE(at, std::string::npos) << key;
-  return at == std::string::npos ? NAN : std::strtod(json.c_str() + at + key.size() + 4, nullptr);
-}
-
 // `talus post` on a column against a wall at x = 4 that collapses towards -x: the runout is
 // measured from its free side's foot at x = 2, in the mirrored frame, with the final height.
 TEST(Front, TalusPostReportsAColumnsRunout) {
@@ -136,15 +123,15 @@ TEST(Front, TalusPostReportsAColumnsRunout) {
   options.figures_script = testing::source_path("postproc/figures.py");  // the figures draw a column too
   ASSERT_EQ(run_post(dir.file("results.h5"), dir.path().string(), log, options), 0) << log.str();
   EXPECT_TRUE(std::filesystem::exists(dir.file("deformed.png")));
-  const std::string json = read_text(dir.file("metrics.json"));
+  const std::string json = testing::read_text(dir.file("metrics.json"));
   // The library's runout on the column's own frame, where its free side's foot is at (2, 0).
   const RunoutMetrics expected = runout_metrics(slope_profile(kColumn, true), column, spread, 0.05,
                                                 column_rule_for(r.volume));
   ASSERT_TRUE(expected.deposit_found);
   EXPECT_GT(expected.runout_distance, 0.5);
-  EXPECT_NEAR(number(json, "runout_distance_m"), expected.runout_distance, 1e-9);
-  EXPECT_NEAR(number(json, "final_height_m"), 1 - kSpacing / 2, 1e-9);
-  EXPECT_DOUBLE_EQ(number(json, "slope_height_m"), 1);
+  EXPECT_NEAR(testing::json_number(json, "runout_distance_m"), expected.runout_distance, 1e-9);
+  EXPECT_NEAR(testing::json_number(json, "final_height_m"), 1 - kSpacing / 2, 1e-9);
+  EXPECT_DOUBLE_EQ(testing::json_number(json, "slope_height_m"), 1);
   EXPECT_NE(json.find("\"toe_m\": [2, 0]"), std::string::npos) << json;
 }
 

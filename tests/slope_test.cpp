@@ -18,6 +18,8 @@
 using namespace talus;
 using talus::testing::run_talus;
 using talus::testing::ScratchDir;
+using talus::testing::json_number;
+using talus::testing::read_text;
 using talus::testing::source_path;
 
 namespace {
@@ -26,20 +28,6 @@ namespace {
 // down to the toe on the base y = 0.
 constexpr double kHeight = 5.0, kCrestX = 6.0;
 const double kToeX = kCrestX + kHeight / std::tan(50.0 * M_PI / 180.0);
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The number after "key": in a flat JSON object; NaN when the key is missing.
-double json_number(const std::string& json, const std::string& key) {
-  const std::size_t at = json.find("\"" + key + "\":");
-  if (at == std::string::npos) return std::nan("");
-  return std::strtod(json.c_str() + at + key.size() + 3, nullptr);
-}
 
 // Frame `frame` of a [frames, N, 2] dataset as N points.
 std::vector<Eigen::Vector2d> points(const std::vector<double>& flat, std::size_t frame, std::size_t n) {

@@ -6,8 +6,11 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <random>
+#include <sstream>
 
 namespace talus::testing {
 
@@ -189,6 +192,20 @@ Material mohr_coulomb(double density, double youngs_modulus, double poisson_rati
   m.friction_angle = friction_angle;
   m.cohesion = cohesion;
   return m;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+double json_number(const std::string& json, const std::string& key) {
+  const std::string tag = "\"" + key + "\":";
+  const std::size_t at = json.find(tag);
+  if (at == std::string::npos) return std::nan("");
+  return std::strtod(json.c_str() + at + tag.size(), nullptr);
 }
 
 void set_run(Model& model, double end_time, Eigen::Vector2d gravity) {

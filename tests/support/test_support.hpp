@@ -27,6 +27,11 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
+// A file's whole text ("" when it cannot be read).
+std::string read_text(const std::string& path);
+// The number after "key": in a JSON text (the first occurrence); NaN when the key is missing.
+double json_number(const std::string& json, const std::string& key);
+
 // Runs `build/bin/talus ARGS` through the shell, capturing its output.
 CommandResult run_talus(const std::string& args);
 CommandResult run_shell(const std::string& command);
