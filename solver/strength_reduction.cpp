@@ -155,7 +155,7 @@ TrialOutcome run_to_verdict(Simulation& sim, const ReductionProblem& problem, do
   TrialOutcome out = verdict.outcome;
   out.failed = end.kind != LoopEnd::Stopped;
   out.reason = end.kind == LoopEnd::Stopped || end.kind == LoopEnd::Failed ? end.reason : "blow-up";
-  if (end.kind == LoopEnd::Failed && end.reason.rfind("numerical blow-up", 0) == 0) out.reason = "blow-up";
+  if (end.kind == LoopEnd::Failed && end.by == &blow_up) out.reason = "blow-up";
   out.steps = sim.steps - verdict.steps0();
   out.simulated_time = sim.time - verdict.t0();
   out.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -35,8 +35,8 @@ LoopEnd run_time_loop(Simulation& sim, double cfl, double end_time, const std::v
     const StepEvent event(sim, dt, energies_due);
     for (Observer* o : observers) {
       const Verdict verdict = o->after_step(sim, event);
-      if (verdict.kind == Verdict::Stop) return {LoopEnd::Stopped, verdict.reason};
-      if (verdict.kind == Verdict::Fail) return {LoopEnd::Failed, verdict.reason};
+      if (verdict.kind == Verdict::Stop) return {LoopEnd::Stopped, verdict.reason, o};
+      if (verdict.kind == Verdict::Fail) return {LoopEnd::Failed, verdict.reason, o};
     }
   }
   return {LoopEnd::EndTime, ""};

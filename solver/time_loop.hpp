@@ -62,6 +62,7 @@ struct LoopEnd {
     BadTimeStep,  // the CFL step was not a positive finite number
   } kind = EndTime;
   std::string reason;
+  const Observer* by = nullptr;  // Stopped, Failed: the observer that ended the run
 };
 
 // Steps sim until end_time (kNever: until an observer stops it), telling each observer after
