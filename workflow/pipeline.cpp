@@ -157,7 +157,9 @@ int run_pipeline(const std::string& scene_path, const StageOptions& options, std
   const uint64_t mesh_inputs =
       stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
   const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
-  const uint64_t post_inputs = stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs));
+  const uint64_t post_inputs = stamps::hash_file(
+      postproc::figure_script("animation.py"),
+      stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs)));
   auto up_to_date = [&](const char* stage, uint64_t inputs, const fs::path& output) {
     const bool same = fs::exists(output) && stamps::recorded(folder, stage) == inputs;
     if (same && !options.quiet) log << stage << ": inputs unchanged, skipped (" << output.string() << ")\n";
