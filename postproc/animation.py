@@ -25,12 +25,12 @@ def ffmpeg_command(ffmpeg, size, fps, mp4, gif):
     # One input, two outputs: H.264 for sharing, and a GIF with its own 64-colour palette. The
     # last picture is held for a second (tpad) so that the deposit can be seen.
     graph = ("[0:v]tpad=stop_mode=clone:stop_duration=1,split=2[movie][small];"
-             "[small]scale='min(%d,iw)':-2:flags=bilinear,split[a][b];"
-             "[a]palettegen=max_colors=64:stats_mode=diff[palette];"
+             "[small]scale='min(%d,iw)':-2:flags=fast_bilinear,split[a][b];"
+             "[a]palettegen=max_colors=64[palette];"
              "[b][palette]paletteuse=dither=none[gif]" % GIF_WIDTH)
     return [ffmpeg, "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba",
             "-s", "%dx%d" % size, "-r", "%g" % fps, "-i", "-", "-filter_complex", graph,
-            "-map", "[movie]", "-c:v", "libx264", "-preset", "veryfast", "-crf", "26", "-pix_fmt", "yuv420p",
+            "-map", "[movie]", "-c:v", "libx264", "-preset", "ultrafast", "-crf", "26", "-pix_fmt", "yuv420p",
             "-movflags", "+faststart", "-f", "mp4", mp4,
             "-map", "[gif]", "-f", "gif", gif]
 
