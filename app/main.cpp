@@ -28,8 +28,9 @@ Usage:
         current step with a checkpoint (DIR/checkpoint.h5) and the frames so far.
   talus post  RESULTS.h5 [--out DIR]
         Runout, failure surface, Bishop's factor of safety or the validation
-        comparison (as the scene's [post] asks): metrics.json, CSV, PNG figures
-        (default DIR: the results' folder).
+        comparison (as the scene's [post] asks): metrics.json, CSV, PNG figures,
+        runout.mp4 and runout.gif unless post.animate = false (default DIR: the
+        results' folder).
   talus run   [SCENE.toml] [--set KEY=VALUE]... [--out DIR]
         The pipeline on a scene (default geometries/slope.toml): mesh, solve, post.
   talus fos   SCENE.toml [--set KEY=VALUE]... [--out DIR] [--threads N] [--tolerance DF]

@@ -159,6 +159,7 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::set_attribute(file, "settings/post", "spring_amplitude", post.spring_amplitude);
   h5::set_attribute(file, "settings/post", "spring_omega", post.spring_omega);
   h5::set_attribute(file, "settings/post", "incline_angle", post.incline_angle);
+  h5::set_attribute(file, "settings/post", "animate", static_cast<int64_t>(post.animate));
 }
 
 void read_metadata(const h5::File& file, Model& model) {
@@ -235,6 +236,9 @@ void read_metadata(const h5::File& file, Model& model) {
   post.spring_amplitude = h5::get_double(file, "settings/post", "spring_amplitude");
   post.spring_omega = h5::get_double(file, "settings/post", "spring_omega");
   post.incline_angle = h5::get_double(file, "settings/post", "incline_angle");
+  // Absent from files written before it existed: animate, as the scene's default.
+  post.animate = !h5::has_attribute(file, "settings/post", "animate") ||
+                 h5::get_int(file, "settings/post", "animate") != 0;
 }
 
 void write_results_start(const h5::File& file, const Model& metadata,

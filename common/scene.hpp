@@ -117,6 +117,7 @@ struct PostSettings {
   double spring_amplitude = 1e-3;     // m, y(t) = A (1 - cos(omega t))
   double spring_omega = 100;          // rad/s
   double incline_angle = 30;          // deg, box_incline: x = 0.5 g (sin a - mu cos a) t^2
+  bool animate = true;                // talus post writes runout.mp4 and runout.gif
 };
 
 struct Scene {

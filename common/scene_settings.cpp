@@ -106,6 +106,7 @@ void read_post(TableReader& top, Scene& scene) {
   ps.spring_amplitude = post.number("spring_amplitude", ps.spring_amplitude, 0, kInf, false);
   ps.spring_omega = post.number("spring_omega", ps.spring_omega, 0, kInf, false);
   ps.incline_angle = post.number("incline_angle", ps.incline_angle, 0, 90, false, false);
+  ps.animate = post.boolean("animate", ps.animate);
   post.finish();
 }
 

@@ -10,6 +10,8 @@ Writes into --out, according to what metrics.json holds:
   energy.png       kinetic, strain and change of potential energy   (always)
   spring_mass.png  MPM settlement against A (1 - cos(omega t))      (metric "spring_mass")
   box_incline.png  MPM displacement along the slope against a t^2/2 (metric "box_incline")
+and with --animate (the scene's post.animate), by animation.py:
+  runout.mp4, runout.gif  the particles coloured by displacement over the saved frames
 """
 import argparse
 import csv
@@ -153,6 +155,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--results", required=True, help="results.h5 of the run")
     parser.add_argument("--out", required=True, help="folder holding metrics.json; figures go there")
+    parser.add_argument("--animate", action="store_true", help="also write runout.mp4 and runout.gif (ffmpeg)")
     args = parser.parse_args()
     with open(os.path.join(args.out, "metrics.json")) as handle:
         metrics = json.load(handle)
@@ -171,6 +174,11 @@ def main():
         b = metrics["box_incline"]
         comparison(args.out, "box_incline", "displacement along the slope (m)",
                    "box on a %.0f deg incline, mu = %.2f" % (b["angle_deg"], b["friction"]), written)
+    if args.animate:
+        import animation
+        front_csv = os.path.join(args.out, "front.csv")
+        front_data = read_csv(front_csv) if "runout" in asked and os.path.exists(front_csv) else None
+        animation.animate(args.results, metrics, args.out, written, front_data)
     for path in written:
         print("wrote", path)
 

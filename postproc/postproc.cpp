@@ -314,7 +314,9 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
 
   if (!options.figures) return 0;
   const std::string script = options.figures_script.empty() ? figures_script() : options.figures_script;
-  run_figure_script(script, {"--results", results_path, "--out", out_dir}, log, options.python);
+  std::vector<std::string> arguments{"--results", results_path, "--out", out_dir};
+  if (post.animate) arguments.push_back("--animate");
+  run_figure_script(script, arguments, log, options.python);
   return 0;
 }
 

@@ -24,7 +24,7 @@ enum FieldRole : unsigned {
   FIELD(Vec2, x, "position", "m", kCheckpointed | kWritten)                      \
   FIELD(Vec2, v, "", "m/s", kCheckpointed)                                       \
   FIELD(double, m, "", "kg/m", kCheckpointed)                                    \
-  FIELD(double, volume, "", "m^2", kCheckpointed)                                \
+  FIELD(double, volume, "volume", "m^2", kCheckpointed | kWritten)               \
   FIELD(Vec4, sigma, "stress", "Pa", kCheckpointed | kWritten)                   \
   FIELD(double, eps_p, "plastic_strain", "-", kCheckpointed | kWritten)          \
   FIELD(double, history, "", "-", kCheckpointed)                                 \

@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "common/model_io.hpp"
 #include "solver/particle_io.hpp"
+#include "solver/results_xdmf.hpp"
 
 namespace talus::solver {
 namespace {
@@ -55,10 +56,15 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
     : path_((std::filesystem::path(out_dir) / "results.h5").string()),
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
+      initial_position_(model.position),
       file_(h5::File::create(path_)) {
   std::tie(device_, inode_) = identity(path_);
   guarded([&] {
     write_results_start(file_, model, model.position, model.body, model.mass, model.volume);
+    std::vector<int32_t> material(particles_);
+    for (std::size_t p = 0; p < particles_; ++p) material[p] = model.bodies[model.body[p]].material;
+    h5::write(file_, "particles/material", material, {particles_});
+    write_xdmf_vertices(file_, particles_);
     open_datasets(0, 0, true);
     h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));
     h5::set_attribute(file_, "/", "loop_seconds", 0.0);
@@ -83,6 +89,7 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
     : path_((std::filesystem::path(out_dir) / "results.h5").string()),
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
+      initial_position_(model.position),
       file_(open_existing(path_)) {
   std::tie(device_, inode_) = identity(path_);
   if (h5::get_int(file_, "/", "particles") != static_cast<int64_t>(particles_))
@@ -92,6 +99,8 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
   open_datasets(static_cast<hsize_t>(resume.frames), static_cast<hsize_t>(resume.history_rows), false);
   std::vector<double> times = h5::read_doubles(file_, "frames/time");
   time_.assign(times.begin(), times.begin() + resume.frames);
+  drop_frame_views(file_, 0);  // views of the kept frames are made anew, of the later ones not
+  for (std::size_t f = 0; f < time_.size(); ++f) write_frame_views(file_, particles_, f, fields());
   h5::set_attribute(file_, "/", "complete", static_cast<int64_t>(0));
   file_.flush();
   write_xdmf();
@@ -99,17 +108,8 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
 
 namespace {
 
-// The XDMF attribute names of a field's components.
-std::vector<std::string> component_names(const std::string& name, int width) {
-  if (width == 2) return {name + "_x", name + "_y"};
-  if (width == 4) return {name + "_xx", name + "_yy", name + "_zz", name + "_xy"};
-  if (width == 1) return {name};
-  std::vector<std::string> names;
-  for (int k = 0; k < width; ++k) names.push_back(name + "_" + std::to_string(k));
-  return names;
-}
-
 const char* const kVelocity = "velocity";
+const char* const kDisplacement = "displacement";
 
 }  // namespace
 
@@ -130,6 +130,7 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
     frame_sets_.push_back({name, width, frame_set("frames/" + name, record, 1)});
   };
   add(kVelocity, 2);
+  add(kDisplacement, 2);
   Particles widths;  // the registry's element widths: one particle of every field
   widths.for_each_field([&](const FieldInfo& field, auto& column) {
     using T = typename std::decay_t<decltype(column)>::value_type;
@@ -170,10 +171,14 @@ void ResultsWriter::write_frame_data(const Simulation& sim) {
   time_set_.append(&sim.time);
   auto set = frame_sets_.begin();
   append(*set++, grid_velocity_at_particles(sim));
+  displacement_.resize(P.size());
+  for (std::size_t p = 0; p < P.size(); ++p) displacement_[p] = P.x[p] - initial_position_[P.id[p]];
+  append(*set++, displacement_);
   P.for_each_field([&](const FieldInfo& field, const auto& column) {
     if (field.roles & kWritten) append(*set++, column);
   });
   time_.push_back(sim.time);
+  write_frame_views(file_, n, time_.size() - 1, fields());
   flush_history();
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(sim.steps));
   file_.flush();
@@ -215,42 +220,14 @@ void ResultsWriter::finish(long steps, double loop_seconds, bool complete) {
   });
 }
 
+std::vector<FrameField> ResultsWriter::fields() const {
+  std::vector<FrameField> fields;
+  for (const FrameSet& set : frame_sets_) fields.push_back({set.name, set.width});
+  return fields;
+}
+
 void ResultsWriter::write_xdmf() const {
-  // A temporal collection of polyvertex grids whose data are hyperslabs of the frame datasets.
-  const std::string h5_name = std::filesystem::path(path_).filename().string();
-  const std::size_t n = particles_;
-  write_stream_atomically(xdmf_path_, [&](std::ostream& out) {
-    out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-        << "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    auto slab = [&](std::size_t frame, const std::string& set, int width, int component) {
-      std::ostringstream s;
-      const bool one = component >= 0;
-      const int columns = one ? 1 : width;
-      s << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << n << (columns > 1 ? " " + std::to_string(columns) : "")
-        << "\" Type=\"HyperSlab\">\n"
-        << "<DataItem Dimensions=\"3 " << (width > 1 ? 3 : 2) << "\" Format=\"XML\">" << frame << " 0"
-        << (width > 1 ? " " + std::to_string(one ? component : 0) : "") << " 1 1" << (width > 1 ? " 1" : "") << " 1 "
-        << n << (width > 1 ? " " + std::to_string(columns) : "") << "</DataItem>\n"
-        << "<DataItem Dimensions=\"" << time_.size() << " " << n << (width > 1 ? " " + std::to_string(width) : "")
-        << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5_name << ":/frames/" << set
-        << "</DataItem>\n</DataItem>\n";
-      return s.str();
-    };
-    for (std::size_t f = 0; f < time_.size(); ++f) {
-      out << "<Grid Name=\"frame " << f << "\" GridType=\"Uniform\">\n<Time Value=\"" << time_[f] << "\"/>\n"
-          << "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\"/>\n";
-      out << "<Geometry GeometryType=\"XY\">\n" << slab(f, "position", 2, -1) << "</Geometry>\n";
-      for (const FrameSet& set : frame_sets_) {
-        if (set.name == "position") continue;
-        const std::vector<std::string> names = component_names(set.name, set.width);
-        for (int k = 0; k < set.width; ++k)
-          out << "<Attribute Name=\"" << names[k] << "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-              << slab(f, set.name, set.width, set.width == 1 ? -1 : k) << "</Attribute>\n";
-      }
-      out << "</Grid>\n";
-    }
-    out << "</Grid>\n</Domain>\n</Xdmf>\n";
-  });
+  write_xdmf_file(xdmf_path_, std::filesystem::path(path_).filename().string(), particles_, time_, fields());
 }
 
 }  // namespace talus::solver

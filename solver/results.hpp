@@ -1,7 +1,8 @@
 // Writes results.h5 frame by frame, flushing each, so that a run stopped midway leaves a
 // readable file with the frames so far; keeps results.xdmf beside it in step. The frame
 // datasets are the particle fields the registry marks as written (particles.hpp) plus the
-// velocity that moves each particle. Every write is checked: a failed one removes results.h5
+// velocity that moves each particle and the displacement; results.xdmf reads them through
+// per-frame views (results_xdmf.hpp). Every write is checked: a failed one removes results.h5
 // and results.xdmf (unreadable by then) and stops the run, and so does results.h5 deleted or
 // replaced while the run writes it.
 #pragma once
@@ -10,6 +11,7 @@
 
 #include "common/h5.hpp"
 #include "common/model.hpp"
+#include "solver/results_xdmf.hpp"
 #include "solver/simulation.hpp"
 
 namespace talus::solver {
@@ -49,6 +51,7 @@ class ResultsWriter {
   void write_frame_data(const Simulation& sim);
   void flush_history();
   void write_xdmf() const;
+  std::vector<FrameField> fields() const;  // the frame datasets, for the XDMF and its views
   void open_datasets(hsize_t frames, hsize_t history_rows, bool fresh);
 
   // A per-frame dataset: frames/<name>, `width` values per particle.
@@ -60,16 +63,19 @@ class ResultsWriter {
   std::string path_, xdmf_path_;
   unsigned long long device_ = 0, inode_ = 0;  // of results.h5 when this writer opened it
   std::size_t particles_;
+  std::vector<Eigen::Vector2d> initial_position_;  // the model's, in its order
   h5::File file_;
   h5::Appendable time_set_;
-  // frames/velocity (the grid velocity at the particles, derived) and then every field the
-  // registry marks kWritten, in its order (particles.hpp); position is the XDMF geometry.
+  // frames/velocity (the grid velocity at the particles) and frames/displacement (position less
+  // the initial position), both derived, and then every field the registry marks kWritten, in
+  // its order (particles.hpp); position is the XDMF geometry.
   std::vector<FrameSet> frame_sets_;
   h5::Appendable history_time_, history_kinetic_, history_potential_, history_strain_, history_particle_kinetic_;
   std::vector<double> time_;
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
       pending_particle_kinetic_;
   std::vector<double> scratch_;
+  std::vector<Eigen::Vector2d> displacement_;
 };
 
 }  // namespace talus::solver

@@ -133,6 +133,8 @@ std::vector<Row> rows() {
        {"materials.rock.density", "expected a number"}},
       {"boolean of the wrong type", [](auto d) { return scene_change(d, "evs = false", "evs = 1"); },
        {"run.evs", "expected true or false"}},
+      {"animate of the wrong type", [](auto d) { return scene_row(d, kScene, "--set post.animate=1"); },
+       {"block.toml", "post.animate", "expected true or false"}},
       {"fractional particles per cell",
        [](auto d) { return scene_change(d, "particles_per_cell = 4", "particles_per_cell = 4.5"); },
        {"bodies.block.particles_per_cell", "expected an integer"}},

@@ -161,6 +161,16 @@ TEST(RunPost, SlopeMetricsJsonCsvAndFigures) {
   for (const char* png : {"deformed.png", "front.png", "energy.png"})
     EXPECT_GT(std::filesystem::file_size(dir.file(png)), 10000u) << png;
   EXPECT_FALSE(std::filesystem::exists(dir.file("metrics.json.tmp")));
+
+  // The movie: 4 frames at 5 a second (the fewest), the last held for a second (5 more); the
+  // GIF beside it. ffmpeg is one of the packages ./talus installs.
+  const auto probe = testing::run_shell("ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                                        "stream=nb_read_frames,codec_name,r_frame_rate -of csv=p=0 " +
+                                        dir.file("runout.mp4"));
+  EXPECT_EQ(probe.status, 0) << probe.output;
+  EXPECT_EQ(probe.output, "h264,5/1,9\n");
+  EXPECT_EQ(read_text(dir.file("runout.gif")).substr(0, 6), "GIF89a");
+  for (const char* left : {"runout.mp4.tmp", "runout.gif.tmp"}) EXPECT_FALSE(std::filesystem::exists(dir.file(left)));
   const char* keep = std::getenv("TALUS_KEEP_POSTPROC_TEST");  // to look at the figures
   if (keep) std::filesystem::copy(dir.path(), keep, std::filesystem::copy_options::recursive |
                                                         std::filesystem::copy_options::overwrite_existing);
@@ -191,6 +201,7 @@ TEST(RunPost, SpringMassAgainstItsAnalyticalSolution) {
   r.metadata.materials[0].model = MaterialModel::LinearElastic;
   r.metadata.post.metrics = {"spring_mass"};
   r.metadata.post.body = "mass";
+  r.metadata.post.animate = false;
   r.initial_position = {{0.025, 1.0}, {0.075, 1.0}};
   r.body = {0, 0};
   r.mass = {2.5, 2.5};
@@ -213,6 +224,8 @@ TEST(RunPost, SpringMassAgainstItsAnalyticalSolution) {
   const std::string json = read_text(dir.file("metrics.json"));
   EXPECT_NEAR(number(json, "max_error_over_amplitude", "spring_mass"), 0.04, 1e-3);  // 2% of 2A at the trough
   EXPECT_GT(std::filesystem::file_size(dir.file("spring_mass.png")), 10000u);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("runout.mp4")));  // post.animate = false
+  EXPECT_FALSE(std::filesystem::exists(dir.file("runout.gif")));
   const char* keep = std::getenv("TALUS_KEEP_POSTPROC_TEST");
   if (keep) std::filesystem::copy_file(dir.file("spring_mass.png"), std::string(keep) + "/spring_mass.png",
                                        std::filesystem::copy_options::overwrite_existing);

@@ -65,7 +65,10 @@ TEST(Results, DatasetsHaveTheDocumentedNamesAndShapes) {
   EXPECT_EQ(h5::shape(file, "frames/velocity"), (h5::Dims{5, n, 2}));
   EXPECT_EQ(h5::shape(file, "frames/stress"), (h5::Dims{5, n, 4}));
   EXPECT_EQ(h5::shape(file, "frames/plastic_strain"), (h5::Dims{5, n}));
+  EXPECT_EQ(h5::shape(file, "frames/displacement"), (h5::Dims{5, n, 2}));
+  EXPECT_EQ(h5::shape(file, "frames/volume"), (h5::Dims{5, n}));
   EXPECT_EQ(h5::shape(file, "particles/body"), (h5::Dims{n}));
+  EXPECT_EQ(h5::shape(file, "particles/material"), (h5::Dims{n}));
   EXPECT_EQ(h5::shape(file, "particles/mass"), (h5::Dims{n}));
   EXPECT_EQ(h5::read_strings(file, "bodies/names"), (std::vector<std::string>{"block", "plate"}));
 
@@ -75,6 +78,28 @@ TEST(Results, DatasetsHaveTheDocumentedNamesAndShapes) {
     EXPECT_EQ(position[2 * p], model.position[p].x());
     EXPECT_EQ(position[2 * p + 1], model.position[p].y());
   }
+  // Displacement is position less the initial position; the first volume is the model's; each
+  // particle carries its body's material; the XDMF's per-frame views read the frame datasets.
+  const auto displacement = h5::read_doubles(file, "frames/displacement");
+  ASSERT_EQ(displacement.size(), position.size());
+  for (std::size_t k = 0; k < position.size(); ++k)
+    EXPECT_EQ(displacement[k], position[k] - model.position[(k / 2) % n][k % 2]);
+  const auto volume = h5::read_doubles(file, "frames/volume");
+  for (std::size_t p = 0; p < n; ++p) EXPECT_EQ(volume[p], model.volume[p]);
+  const auto material = h5::read_ints(file, "particles/material");
+  for (std::size_t p = 0; p < n; ++p) EXPECT_EQ(material[p], model.bodies[model.body[p]].material);
+  std::vector<double> view = h5::read_doubles(file, "xdmf/4/velocity");
+  ASSERT_EQ(view.size(), 3 * n);
+  const auto velocity_frames = h5::read_doubles(file, "frames/velocity");
+  for (std::size_t p = 0; p < n; ++p) {
+    EXPECT_EQ(view[3 * p], velocity_frames[(4 * n + p) * 2]);
+    EXPECT_EQ(view[3 * p + 1], velocity_frames[(4 * n + p) * 2 + 1]);
+    EXPECT_EQ(view[3 * p + 2], 0.0);
+  }
+  view = h5::read_doubles(file, "xdmf/3/stress_xy");
+  const auto stress = h5::read_doubles(file, "frames/stress");
+  for (std::size_t p = 0; p < n; ++p) EXPECT_EQ(view[p], stress[(3 * n + p) * 4 + 3]);
+
   // The block falls freely until it meets the plate (0.5 m below) after 0.2 s: sqrt(2 0.5 / g) = 0.32 s.
   const auto velocity = h5::read_doubles(file, "frames/velocity");
   for (std::size_t p = 0; p < n; ++p)
@@ -102,7 +127,8 @@ TEST(Results, DatasetsHaveTheDocumentedNamesAndShapes) {
   for (std::size_t at = text.str().find("<Time Value"); at != std::string::npos; at = text.str().find("<Time Value", at + 1))
     ++grids;
   EXPECT_EQ(grids, 5u);
-  EXPECT_NE(text.str().find("results.h5:/frames/position"), std::string::npos);
+  EXPECT_NE(text.str().find("results.h5:/xdmf/4/position"), std::string::npos);
+  EXPECT_EQ(text.str().find("results.h5:/xdmf/5/"), std::string::npos);
 }
 
 TEST(Results, BlowUpStopsTheRunKeepsTheFramesAndWritesNoNaN) {

@@ -38,9 +38,9 @@ TEST(WriteFaults, AFullDiskStopsEveryStageAndLeavesNoHalfWrittenFile) {
   EXPECT_FALSE(fs::exists(out / "model.h5.tmp"));
 
   ASSERT_EQ(testing::run_talus(scene + " --quiet").status, 0);
-  // 154 kB passes the estimate of results.h5 (110 kB: 4 frames of 344 particles at 80 B) and
-  // stops the writes (the file takes 181 kB).
-  const auto solved = talus_limited(300, "solve " + (out / "model.h5").string());
+  // 205 kB passes the estimate of results.h5 (170 kB: 4 frames of 344 particles at 100 B and
+  // 8 kB) and stops the writes (the file takes 228 kB).
+  const auto solved = talus_limited(400, "solve " + (out / "model.h5").string());
   expect_failed_write(solved, "results.h5");
   EXPECT_NE(solved.output.find("removed " + (out / "results.h5").string() + " and results.xdmf"), std::string::npos)
       << solved.output;
@@ -72,8 +72,9 @@ TEST(WriteFaults, ResultsThatWouldNotFitAreRefusedBeforeTheSolve) {
   ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
   const auto result = talus_limited(1000, "solve " + (out / "model.h5").string());
   EXPECT_EQ(result.status, 1) << result.output;
-  for (const char* words : {"model.h5: settings/run@output_interval: results.h5 would take about 0.027",
-                            " frames of 344 particles at 80 B each), more than the file size limit of 0.000512 GB"})
+  for (const char* words : {"model.h5: settings/run@output_interval: results.h5 would take about 0.0424",
+                            " frames of 344 particles at 100 B each, and 8 kB a frame), more than the file size "
+                            "limit of 0.000512 GB"})
     EXPECT_NE(result.output.find(words), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("raise run.output_interval"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(out / "results.h5"));

@@ -65,12 +65,13 @@ std::string mesh(const Scene& scene, const std::string& folder, bool quiet, std:
   return path;
 }
 
-// results.h5 keeps 9 doubles per particle and frame (position, velocity, stress, plastic
-// strain), 80 B with HDF5's overhead; results.xdmf about 3 kB per frame. A run whose results
-// would not fit in the folder's free space, or in the process's file size limit, is refused.
+// results.h5 keeps 12 doubles per particle and frame (position, velocity, displacement, stress,
+// plastic strain, volume), 100 B with HDF5's overhead, and about 8 kB per frame for the XDMF's
+// views; results.xdmf about 3 kB per frame. A run whose results would not fit in the folder's
+// free space, or in the process's file size limit, is refused.
 void check_results_fit(const Model& model, const std::string& model_path, const std::string& folder) {
   const double frames = std::floor(model.run.end_time / model.run.output_interval) + 2;
-  const double h5_bytes = frames * 80.0 * static_cast<double>(model.particle_count());
+  const double h5_bytes = frames * (100.0 * static_cast<double>(model.particle_count()) + 8000.0);
   const double bytes = h5_bytes + frames * 3000.0;
   struct statvfs disk {};
   const double free_bytes =
@@ -83,7 +84,7 @@ void check_results_fit(const Model& model, const std::string& model_path, const 
   std::ostringstream message;
   message.precision(3);
   message << "results.h5 would take about " << h5_bytes / 1e9 << " GB (" << static_cast<long long>(frames) << " frames of "
-          << model.particle_count() << " particles at 80 B each), more than ";
+          << model.particle_count() << " particles at 100 B each, and 8 kB a frame), more than ";
   if (h5_bytes > file_limit) message << "the file size limit of " << file_limit / 1e9 << " GB (ulimit -f)";
   else message << "the " << free_bytes / 1e9 << " GB free in " << folder;
   message << ": raise run.output_interval";
@@ -156,7 +157,9 @@ int run_pipeline(const std::string& scene_path, const StageOptions& options, std
   const uint64_t mesh_inputs =
       stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
   const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
-  const uint64_t post_inputs = stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs));
+  const uint64_t post_inputs = stamps::hash_file(
+      postproc::figure_script("animation.py"),
+      stamps::hash_file(postproc::figures_script(), stamps::hash("post", solve_inputs)));
   auto up_to_date = [&](const char* stage, uint64_t inputs, const fs::path& output) {
     const bool same = fs::exists(output) && stamps::recorded(folder, stage) == inputs;
     if (same && !options.quiet) log << stage << ": inputs unchanged, skipped (" << output.string() << ")\n";
