@@ -23,6 +23,17 @@ struct Grids {
   std::vector<int32_t> active;  // nodes touched by a particle's stencil this step
   std::vector<Grid> fields;     // per body with contact (fields[b] is body b's), else fields[0]
   bool per_body = false;
+  // Contact (contact.cpp), rebuilt each step. For each listed contact node k and body b:
+  // whether b takes part in the contact there, and b's outward unit normal (zero for a fixed
+  // body). While listing: each candidate node's index (else -1), and per thread the extents of
+  // the bodies along each normal.
+  std::vector<uint8_t> touching;             // [k * bodies + b]
+  std::vector<Vec2> contact_normal;          // [k * bodies + b]
+  std::vector<int32_t> contact_slot;         // [node]
+  std::vector<std::vector<double>> extents;  // [thread][(k * bodies + b) * bodies + c], m
+  // The fixed particles [moving_count, size) in runs that share a stencil row, each run's first
+  // particle and a final end: fixed particles never move and keep their order.
+  std::vector<std::size_t> fixed_runs;
 
   int field_of(int32_t body) const { return per_body ? body : 0; }
 };

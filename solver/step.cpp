@@ -20,7 +20,7 @@ bool step(Simulation& sim, double dt) {
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
-    find_contact_nodes(s.grids, s.contact_nodes);
+    find_contact_nodes(contact, P, s.stencil, s.grids, s.contact_nodes, threads);
     apply_contact(contact, dt, s.contact_nodes, s.grids, threads);
   }
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {

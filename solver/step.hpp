@@ -85,8 +85,9 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads);
 
 // ---- Frictional contact (contact.cpp) -------------------------------------------------------
-// Bardenhagen et al. (2000), seed appendix B: at nodes where more than one body has mass,
-// approach is removed along the normal and the tangential part follows Coulomb stick or slip.
+// Bardenhagen et al. (2000), seed appendix B: at nodes where more than one body has mass and
+// their particles touch (docs/contact.md, "Detection"), approach is removed along the normal
+// and the tangential part follows Coulomb stick or slip.
 // A fixed body is rigid: the reference velocity at a node it touches is zero. After the
 // correction each node's constraints hold again (a body pushed along a roller wall by contact
 // still does not cross it).
@@ -97,8 +98,10 @@ struct ContactRules {
   const Constraints& constraints;
 };
 
-// Lists the nodes where 2+ bodies have mass (ascending) in `contact_nodes`.
-void find_contact_nodes(const Grids& grids, std::vector<int32_t>& contact_nodes);
+// Lists (ascending) in `contact_nodes` the nodes where 2+ bodies have mass and their particles
+// touch along the contact normal, and records which bodies take part at each.
+void find_contact_nodes(const ContactRules& rules, const Particles& particles, const Stencil& stencil, Grids& grids,
+                        std::vector<int32_t>& contact_nodes, int threads);
 
 // Corrects the end-of-step trial velocities through the accelerations, so that (A.10) sees it.
 void apply_contact(const ContactRules& rules, double dt, const std::vector<int32_t>& contact_nodes, Grids& grids,
