@@ -65,8 +65,11 @@ std::vector<double> level_metrics(const std::string& folder) {
   std::vector<double> values;
   for (const auto& metric : converge_metrics()) {
     if (metric.key == "slip_circle") {
+      // "slip_circle": {"xc_m": ..., "yc_m": ..., "r_m": ...} or null (no circle fitted).
       const std::size_t at = text.find("\"slip_circle\"");
-      values.push_back(at == std::string::npos ? kNaN : json_number(text, "r_m", at));
+      const std::size_t value = at == std::string::npos ? at : text.find_first_not_of(" :\n", at + 13);
+      const bool object = value != std::string::npos && text[value] == '{';
+      values.push_back(object ? json_number(text, "r_m", value) : kNaN);
     } else {
       values.push_back(json_number(text, metric.key));
     }
