@@ -63,6 +63,14 @@ Arguments parse(int argc, char** argv) {
                                            "a time >= 0 in seconds of simulated time");
     } else if (name == "--tolerance") {
       args.tolerance = number_of(i, name, 0, true, 1, "a number in (0, 1)");
+    } else if (name == "--levels") {
+      // Any integer here; converge says which it accepts (workflow/converge.hpp).
+      const double levels = number_of(i, name, -1e9, false, 1e9, "an integer");
+      if (levels != std::floor(levels)) throw Error("--levels: expected an integer, got '" + std::to_string(levels) + "'");
+      args.levels = static_cast<int>(levels);
+    } else if (name == "--ratio") {
+      args.ratio = number_of(i, name, -std::numeric_limits<double>::max(), false,
+                             std::numeric_limits<double>::infinity(), "a number > 1");
     } else if (word == "--restart") args.restart = true;
     else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
     else if (args.command.empty()) args.command = word;

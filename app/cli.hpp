@@ -21,6 +21,8 @@ struct Arguments {
   std::optional<double> checkpoint_interval;  // --checkpoint-interval T (s of simulated time)
   bool restart = false;                       // --restart
   std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)
+  std::optional<int> levels;                  // --levels N (converge)
+  std::optional<double> ratio;                // --ratio R (converge)
   std::vector<std::string> flags;      // other --name[=value] options, for subcommands
 };
 

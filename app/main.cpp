@@ -9,6 +9,7 @@
 #include "common/error.hpp"
 #include "postproc/figure_script.hpp"
 #include "solver/solver.hpp"
+#include "workflow/converge.hpp"
 #include "workflow/fos.hpp"
 #include "workflow/pipeline.hpp"
 
@@ -36,6 +37,13 @@ Usage:
   talus fos   SCENE.toml [--set KEY=VALUE]... [--out DIR] [--threads N] [--tolerance DF]
         Factor of safety by shear strength reduction (trials on N threads, bracket
         width DF, default 0.01): DIR/fos.json and fos.png (docs/fos.md).
+  talus converge SCENE.toml [--levels N] [--ratio R] [--set KEY=VALUE]... [--out DIR]
+              [--threads N]
+        Mesh convergence: the scene run at mesh.size h0, h0/R, ... (N levels, default
+        3, in [2, 6]; R > 1, default 2; h0 the scene's size) in DIR/level<k>_h<size>
+        (default DIR: out/<scene name>/converge); each metric with its observed order
+        and grid convergence index: DIR/converge.csv, converge.md, converge.png
+        (docs/converge.md).
 
 Options:
   --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
@@ -72,6 +80,23 @@ workflow::StageOptions stage_options(const cli::Arguments& args) {
   return options;
 }
 
+workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
+  if (args.positional.size() != 1) throw Error("converge: expected one scene file (see talus --help)");
+  if (!args.flags.empty()) throw Error("converge: unknown option '" + args.flags.front() + "' (see talus --help)");
+  if (args.restart || args.checkpoint_interval)
+    throw Error("--checkpoint-interval and --restart belong to solve or run, not converge");
+  if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
+  workflow::ConvergeOptions options;
+  options.scene_path = args.positional.front();
+  options.overrides = args.overrides;
+  options.out = args.out;
+  options.threads = args.threads;
+  options.quiet = args.quiet;
+  if (args.levels) options.levels = *args.levels;
+  if (args.ratio) options.ratio = *args.ratio;
+  return options;
+}
+
 workflow::FosOptions fos_options(const cli::Arguments& args) {
   if (args.positional.size() != 1) throw Error("fos: expected one scene file (see talus --help)");
   if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
@@ -92,6 +117,7 @@ void reject_unknown_options(const cli::Arguments& args, bool solves) {
   if (!solves && (args.restart || args.checkpoint_interval))
     throw Error("--checkpoint-interval and --restart belong to solve or run, not " + args.command);
   if (args.tolerance) throw Error("--tolerance belongs to fos, not " + args.command);
+  if (args.levels || args.ratio) throw Error("--levels and --ratio belong to converge, not " + args.command);
 }
 
 int run_command(const cli::Arguments& args) {
@@ -120,12 +146,16 @@ int run_command(const cli::Arguments& args) {
     if (!args.overrides.empty()) throw Error("post reads results, not a scene: --set belongs to mesh or run");
     return workflow::post_stage(results_path, stage_options(args), std::cout);
   }
-  if (args.command == "fos") return workflow::run_fos(fos_options(args), std::cout);
+  if (args.command == "fos") {
+    if (args.levels || args.ratio) throw Error("--levels and --ratio belong to converge, not fos");
+    return workflow::run_fos(fos_options(args), std::cout);
+  }
+  if (args.command == "converge") return workflow::run_converge(converge_options(args), std::cout);
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     return workflow::run_pipeline(scene_path, stage_options(args), std::cout);
   }
-  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post, run or fos; see talus --help)");
+  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post, run, fos or converge; see talus --help)");
 }
 
 }  // namespace

@@ -5,13 +5,13 @@
 // `complete` = 0), never silently.
 //
 //   talus_bench_stability                 everything (about 15 minutes on 2 busy cores)
-//   talus_bench_stability --quick         fewer CFL values and 10 perturbed runs
-//   talus_bench_stability --only cfl|stress|perturb [--runs N] [--seed S] [--out DIR]
+//   talus_bench_stability --quick         fewer CFL values, 10 perturbed runs, granular at CFL 0.5 and 1
+//   talus_bench_stability --only cfl|stress|perturb|granular [--runs N] [--seed S] [--out DIR]
 //
 // Writes to DIR (default out/bench): stability_cfl.csv, stability_stress.csv,
-// stability_perturbation.csv, stability_energy.csv, stability.md and
+// stability_perturbation.csv, stability_energy.csv, stability_granular.csv, stability.md and
 // bench_stability_energy.png (bench/plot_benchmarks.py). The helpers and the stress cases are in
-// stability_support.cpp and stability_stress.cpp (stability.hpp).
+// stability_support.cpp, stability_stress.cpp and stability_granular.cpp (stability.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -236,7 +236,7 @@ std::string perturbations(const Options& options, std::vector<PerturbRow>& rows)
 
 int usage(const char* self, int status) {
   std::fprintf(status ? stderr : stdout,
-               "usage: %s [--quick] [--only cfl|stress|perturb] [--runs N] [--seed S] [--out DIR] [--threads N]\n"
+               "usage: %s [--quick] [--only cfl|stress|perturb|granular] [--runs N] [--seed S] [--out DIR] [--threads N]\n"
                "  --quick      fewer CFL values, 2e4 steps in the long run, at most 10 perturbed runs\n"
                "  --runs N     perturbed runs of the box scene (default 50)\n"
                "  --out DIR    output folder (default out/bench)\n"
@@ -262,7 +262,8 @@ int main(int argc, char** argv) {
     else if (arg == "--threads" && has_value) options.threads = std::max(1, std::atoi(argv[++i]));
     else return usage(argv[0], arg == "--help" || arg == "-h" ? 0 : 1);
   }
-  if (!options.only.empty() && options.only != "cfl" && options.only != "stress" && options.only != "perturb")
+  if (!options.only.empty() && options.only != "cfl" && options.only != "stress" && options.only != "perturb" &&
+      options.only != "granular")
     return usage(argv[0], 1);
   std::filesystem::create_directories(options.out);
   const double start = bench::now_seconds();
@@ -272,9 +273,11 @@ int main(int argc, char** argv) {
     std::vector<CflRow> cfl_rows;
     std::vector<StressRow> stress_rows;
     std::vector<PerturbRow> perturb_rows;
+    std::vector<GranularRow> granular_rows;
     if (options.only.empty() || options.only == "cfl") md << cfl_sweep(options, cfl_rows);
     if (options.only.empty() || options.only == "stress") md << stress_cases(options, stress_rows);
     if (options.only.empty() || options.only == "perturb") md << perturbations(options, perturb_rows);
+    if (options.only.empty() || options.only == "granular") md << granular_cases(options, granular_rows);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "talus_bench_stability: %s\n", error.what());
     return 1;

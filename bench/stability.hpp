@@ -14,7 +14,7 @@ namespace talus::bench::stability {
 
 struct Options {
   bool quick = false;
-  std::string only;  // "", "cfl", "stress" or "perturb"
+  std::string only;  // "", "cfl", "stress", "perturb" or "granular"
   int runs = 50;
   unsigned seed = 20240611;
   int threads = 1;
@@ -98,5 +98,16 @@ struct StressRow {
   Outcome outcome;
 };
 std::string stress_cases(const Options& options, std::vector<StressRow>& rows);
+
+// The granular-flow cases (bench/stability_granular.cpp): cohesionless column and slope at
+// several CFL numbers, one row per run, and their Markdown section.
+struct GranularRow {
+  std::string scene, note;
+  double cfl = 0;
+  Outcome outcome;
+  double front_advance = 0;  // m: the farthest particle's x, last frame minus first
+  bool left_domain = false;
+};
+std::string granular_cases(const Options& options, std::vector<GranularRow>& rows);
 
 }  // namespace talus::bench::stability

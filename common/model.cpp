@@ -269,6 +269,13 @@ void write_model(const std::string& path, const Model& model) {
     h5::write(file, "boundary_conditions/roller_nodes", model.roller_nodes, {model.roller_nodes.size()});
     h5::write(file, "boundary_conditions/roller_normals", flatten(model.roller_normals),
               {model.roller_normals.size(), 2});
+    if (!model.friction_nodes.empty()) {
+      h5::write(file, "boundary_conditions/friction_nodes", model.friction_nodes, {model.friction_nodes.size()});
+      h5::write(file, "boundary_conditions/friction_normals", flatten(model.friction_normals),
+                {model.friction_normals.size(), 2});
+      h5::write(file, "boundary_conditions/friction_coefficients", model.friction_coefficients,
+                {model.friction_coefficients.size()});
+    }
 
     const std::size_t n = model.particle_count();
     h5::write(file, "particles/position", flatten(model.position), {n, 2});
@@ -326,6 +333,19 @@ Model read_model(const std::string& path) {
   check_finite(file, "boundary_conditions/roller_normals", normals);
   model.roller_normals = unflatten<Eigen::Vector2d>(normals, dims, file, "boundary_conditions/roller_normals",
                                                     model.roller_nodes.size());
+  if (h5::exists(file, "boundary_conditions/friction_nodes")) {
+    model.friction_nodes = read_node_list("boundary_conditions/friction_nodes");
+    auto friction_normals = h5::read_doubles(file, "boundary_conditions/friction_normals", &dims);
+    check_finite(file, "boundary_conditions/friction_normals", friction_normals);
+    model.friction_normals = unflatten<Eigen::Vector2d>(friction_normals, dims, file,
+                                                        "boundary_conditions/friction_normals",
+                                                        model.friction_nodes.size());
+    model.friction_coefficients = h5::read_doubles(file, "boundary_conditions/friction_coefficients", &dims);
+    check_count(file, "boundary_conditions/friction_coefficients", dims, model.friction_nodes.size());
+    for (double mu : model.friction_coefficients)
+      if (!(std::isfinite(mu) && mu >= 0))
+        throw Error(located(path, "boundary_conditions/friction_coefficients", "expected finite numbers >= 0"));
+  }
 
   auto positions = h5::read_doubles(file, "particles/position", &dims);
   const std::size_t n = dims.empty() ? 0 : dims[0];

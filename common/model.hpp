@@ -41,6 +41,12 @@ struct Model {
   std::vector<int32_t> fixed_nodes;
   std::vector<int32_t> roller_nodes;
   std::vector<Eigen::Vector2d> roller_normals;
+  // A friction node keeps the velocity out of the domain along its outward unit normal at zero
+  // or below and resists sliding by Coulomb friction (coefficient per node); see
+  // solver/mesh.hpp. Optional in the file (absent: none).
+  std::vector<int32_t> friction_nodes;
+  std::vector<Eigen::Vector2d> friction_normals;
+  std::vector<double> friction_coefficients;
 
   // Particles (struct of arrays, all of length N).
   std::vector<Eigen::Vector2d> position;  // m

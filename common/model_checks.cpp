@@ -49,6 +49,10 @@ void check_model_geometry(const Model& model, const std::string& path) {
     if (!(model.roller_normals[k].norm() > 0))
       throw Error(located(path, "boundary_conditions/roller_normals",
                           "row " + std::to_string(k) + " is [0, 0]: a roller needs the direction it is held in"));
+  for (std::size_t k = 0; k < model.friction_normals.size(); ++k)
+    if (!(model.friction_normals[k].norm() > 0))
+      throw Error(located(path, "boundary_conditions/friction_normals",
+                          "row " + std::to_string(k) + " is [0, 0]: a friction node needs its outward normal"));
   // Barycentric weights: a particle on an edge is inside, one beyond it by more than round-off
   // is not.
   constexpr double kTolerance = 1e-9;

@@ -18,7 +18,7 @@ constexpr double kMaxK0 = 10.0;
 // range.
 std::string run_settings_problem(const RunSettings& run);
 
-// Every triangle counter-clockwise with a positive area, every roller normal non-zero, every
+// Every triangle counter-clockwise with a positive area, every roller and friction normal non-zero, every
 // particle inside (or on the edge of) its element. Throws talus::Error naming `path` and the
 // dataset.
 void check_model_geometry(const Model& model, const std::string& path);

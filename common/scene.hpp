@@ -43,7 +43,7 @@ struct Body {
   std::optional<InitialStress> initial_stress;
 };
 
-enum class BoundaryType { Fixed, Roller };
+enum class BoundaryType { Fixed, Roller, Friction };
 
 struct Boundary {
   std::string name;   // key of [boundaries.NAME]
@@ -52,6 +52,8 @@ struct Boundary {
   // Roller: velocity along this unit normal is zero. Default: the curve's own normal
   // (one per node, averaged over the node's boundary segments).
   std::optional<Eigen::Vector2d> normal;
+  // Friction: Coulomb coefficient (tan of the base friction angle) against the boundary.
+  double friction = 0;
 };
 
 struct ContactPair {

@@ -50,7 +50,11 @@ void read_boundaries(TableReader& top, Scene& scene) {
     const std::string type = r.text("type", std::nullopt);
     if (type == "fixed") b.type = BoundaryType::Fixed;
     else if (type == "roller") b.type = BoundaryType::Roller;
-    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed or roller)");
+    else if (type == "friction") b.type = BoundaryType::Friction;
+    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed, roller or friction)");
+    if (b.type == BoundaryType::Friction) b.friction = r.number("friction", std::nullopt, 0, kInf);
+    else if (r.has("friction"))
+      r.fail("friction", "belongs to type = \"friction\" only (this boundary is " + type + ")");
     if (r.has("normal")) {
       Eigen::Vector2d n = r.vector2("normal", std::nullopt);
       if (n.norm() == 0) r.fail("normal", "expected a non-zero vector");

@@ -130,7 +130,8 @@ std::vector<BoundaryCurve> boundary_curves(const GeoMesh& geo, const BackgroundM
                           "named by boundaries." + boundary.name + " in " + scene.path +
                               ", is a surface; a boundary needs a physical curve"));
     if (!group) missing_group(geo, boundary.group, "physical curve", "boundaries." + boundary.name, scene);
-    BoundaryCurve curve{boundary.name, boundary.type, boundary.normal, mesh_segments(geo, *group, mesh)};
+    BoundaryCurve curve{boundary.name, boundary.type, boundary.normal, mesh_segments(geo, *group, mesh),
+                        boundary.friction};
     if (curve.segments.empty())
       throw Error(located(geo.path, "physical curve \"" + boundary.group + "\"",
                           "named by boundaries." + boundary.name + " in " + scene.path +
@@ -248,10 +249,14 @@ Model build_model(const Scene& scene, MeshReport* report) {
   }
 
   // 5. Boundary conditions.
-  const NodeConstraints constraints = resolve_constraints(mesh.nodes, boundary_curves(geo, mesh, scene));
+  const NodeConstraints constraints =
+      resolve_constraints(mesh.nodes, boundary_curves(geo, mesh, scene), model.triangles);
   model.fixed_nodes = constraints.fixed_nodes;
   model.roller_nodes = constraints.roller_nodes;
   model.roller_normals = constraints.roller_normals;
+  model.friction_nodes = constraints.friction_nodes;
+  model.friction_normals = constraints.friction_normals;
+  model.friction_coefficients = constraints.friction_coefficients;
 
   // 6. Settings.
   model.run = scene.run;
@@ -268,6 +273,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
     report->particles = n;
     report->fixed_nodes = model.fixed_nodes.size();
     report->roller_nodes = model.roller_nodes.size();
+    report->friction_nodes = model.friction_nodes.size();
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
       BodyReport body{scene.bodies[b].name, count[b], seeded_volume[b], regions[b].area(), 0};
       body.relative_difference = (body.particle_volume - body.polygon_area) / body.polygon_area;
@@ -285,7 +291,9 @@ void print_report(const MeshReport& report, std::ostream& out) {
   const auto precision = out.precision();
   out << "mesh " << report.scene << " (" << report.geometry << ")\n";
   out << "  background mesh: " << report.nodes << " nodes, " << report.elements << " triangles\n";
-  out << "  boundary: " << report.fixed_nodes << " fixed nodes, " << report.roller_nodes << " roller nodes\n";
+  out << "  boundary: " << report.fixed_nodes << " fixed nodes, " << report.roller_nodes << " roller nodes";
+  if (report.friction_nodes > 0) out << ", " << report.friction_nodes << " friction nodes";
+  out << "\n";
   std::size_t width = 4;
   for (const auto& body : report.bodies) width = std::max(width, body.name.size());
   for (const auto& body : report.bodies) {

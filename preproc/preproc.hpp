@@ -29,6 +29,7 @@ struct MeshReport {
   std::size_t particles = 0;
   std::size_t fixed_nodes = 0;
   std::size_t roller_nodes = 0;
+  std::size_t friction_nodes = 0;
   std::vector<BodyReport> bodies;
   double gmsh_seconds = 0;     // reading the .geo and meshing
   double seeding_seconds = 0;  // everything after gmsh: topology, seeding, boundary conditions

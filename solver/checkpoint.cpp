@@ -41,8 +41,10 @@ const char* const kFingerprintGroup = "fingerprint";
 std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& model) {
   std::vector<std::pair<std::string, int64_t>> sections;
   sections.emplace_back("mesh", stored(Fingerprint().add(model.nodes).add(model.triangles)));
-  sections.emplace_back("boundary conditions",
-                        stored(Fingerprint().add(model.fixed_nodes).add(model.roller_nodes).add(model.roller_normals)));
+  Fingerprint boundary = Fingerprint().add(model.fixed_nodes).add(model.roller_nodes).add(model.roller_normals);
+  if (!model.friction_nodes.empty())  // a model without friction nodes keeps its earlier fingerprint
+    boundary.add(model.friction_nodes).add(model.friction_normals).add(model.friction_coefficients);
+  sections.emplace_back("boundary conditions", stored(boundary));
   sections.emplace_back("particles", stored(Fingerprint()
                                                 .add(model.position)
                                                 .add(model.velocity)

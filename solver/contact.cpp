@@ -86,7 +86,7 @@ void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, 
     else delta = -approach * normal[b] - mu * approach * tangential / slip;  // slide, Coulomb-limited
     // The velocity before the correction obeys the node's constraint; the correction must too,
     // or contact would push a body through a fixed or roller boundary.
-    constrain(rules.constraints, i, delta);
+    constrain_change(rules.constraints, i, delta);
     on_change(b, delta);
   }
 }

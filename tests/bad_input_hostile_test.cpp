@@ -154,6 +154,24 @@ std::vector<Row> rows() {
          });
        },
        {"model.h5", "boundary_conditions/roller_normals", "row 0 is [0, 0]"}},
+      {"friction normal [0, 0] in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           h5::write(f, "boundary_conditions/friction_nodes", std::vector<int32_t>{0}, {1});
+           h5::write(f, "boundary_conditions/friction_normals", std::vector<double>{0.0, 0.0}, {1, 2});
+           h5::write(f, "boundary_conditions/friction_coefficients", std::vector<double>{0.5}, {1});
+         });
+       },
+       {"model.h5", "boundary_conditions/friction_normals", "row 0 is [0, 0]"}},
+      {"negative friction coefficient in a model",
+       [](auto d) {
+         return meshed_model_row(d, [](auto& f) {
+           h5::write(f, "boundary_conditions/friction_nodes", std::vector<int32_t>{0}, {1});
+           h5::write(f, "boundary_conditions/friction_normals", std::vector<double>{0.0, -1.0}, {1, 2});
+           h5::write(f, "boundary_conditions/friction_coefficients", std::vector<double>{-0.5}, {1});
+         });
+       },
+       {"model.h5", "boundary_conditions/friction_coefficients", "finite numbers >= 0"}},
       {"triangle indices as floating-point numbers",
        [](auto d) {
          return meshed_model_row(d, [](auto& f) {
