@@ -177,14 +177,15 @@ double density_at(const Material& material, const WaterSettings& water, const Ei
 }
 
 // A water table must reach over the domain: its x range overlaps the domain's, and it is not
-// wholly below it.
+// wholly below it even at its highest rise.
 void check_water_table(const WaterSettings& water, const Region& domain, const Scene& scene) {
   if (!water.enabled()) return;
   const Eigen::AlignedBox2d box = domain.bounds();
-  double highest = -INFINITY;
+  double highest = -INFINITY, rise = 0;  // the table's highest point, and its highest rise
   for (const auto& point : water.table) highest = std::max(highest, point.y());
+  for (const auto& point : water.rise) rise = std::max(rise, point.y());
   if (water.table.back().x() <= box.min().x() || water.table.front().x() >= box.max().x() ||
-      highest + std::max(0.0, water.rise.empty() ? 0.0 : water.rise.back().y()) <= box.min().y()) {
+      highest + rise <= box.min().y()) {
     std::ostringstream message;
     message << "the table (x from " << water.table.front().x() << " to " << water.table.back().x() << " m, highest y "
             << highest << " m) lies outside the domain (x from " << box.min().x() << " to " << box.max().x()

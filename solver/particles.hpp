@@ -5,6 +5,7 @@
 // every visitor skips it, so an unused field costs neither memory nor time.
 #pragma once
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "solver/mesh.hpp"
@@ -72,6 +73,12 @@ struct Particles {
 #undef TALUS_VISIT_FIELD
   }
 };
+
+// Whether a simulation fills a written field, so that results.h5 has its frames: the pore
+// pressure only with a water table (`water`); every other written field always.
+inline bool field_written(const FieldInfo& field, bool water) {
+  return (field.roles & kWritten) && (water || std::string_view(field.name) != "pore_pressure");
+}
 
 // The effective stress of particle p: sigma + u (1, 1, 1, 0) with water, sigma without.
 inline Vec4 effective_stress(const Particles& P, std::size_t p) {

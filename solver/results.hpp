@@ -60,6 +60,7 @@ class ResultsWriter {
   std::string path_, xdmf_path_;
   unsigned long long device_ = 0, inode_ = 0;  // of results.h5 when this writer opened it
   std::size_t particles_;
+  bool water_;  // the model has a water table: frames/pore_pressure (field_written)
   h5::File file_;
   h5::Appendable time_set_;
   // frames/velocity (the grid velocity at the particles, derived) and then every field the
