@@ -62,7 +62,10 @@ double softening_update(const MaterialState& material, Vec4& sigma, const Vec4& 
   const MaterialState::Strength now{a.cohesion + s * (b.cohesion - a.cohesion),
                                     a.friction_angle + s * (b.friction_angle - a.friction_angle),
                                     a.dilation_angle + s * (b.dilation_angle - a.dilation_angle)};
-  return mohr_coulomb_update(params_of(material, now), sigma, d_eps);
+  const MohrCoulombParams params =
+      MohrCoulombParams::unchecked(material.youngs_modulus, material.poisson_ratio, now.friction_angle, now.cohesion,
+                                   std::min(now.dilation_angle, now.friction_angle), material.tensile_strength);
+  return mohr_coulomb_update(params, sigma, d_eps);
 }
 
 double elastic_energy_density(const MaterialState& material, const Vec4& sigma) {

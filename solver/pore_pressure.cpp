@@ -43,32 +43,62 @@ void prepare_materials(Config& config, const Model& model) {
   }
 }
 
+namespace {
+
+// The table at one time, for the particle loop: its points and the rise, read without calls.
+struct TableNow {
+  const Eigen::Vector2d* points;
+  std::size_t count;
+  double rise, unit_weight, fraction;
+
+  // fraction x gamma_w x max(0, h(x) - y): WaterSettings::pore_pressure times the ramp.
+  double pore_pressure(const Vec2& x) const {
+    double h;
+    if (x.x() <= points[0].x()) {
+      h = points[0].y();
+    } else if (x.x() >= points[count - 1].x()) {
+      h = points[count - 1].y();
+    } else {
+      std::size_t k = 1;
+      while (points[k].x() < x.x()) ++k;
+      const Eigen::Vector2d& a = points[k - 1];
+      const Eigen::Vector2d& b = points[k];
+      h = a.y() + (b.y() - a.y()) * (x.x() - a.x()) / (b.x() - a.x());
+    }
+    const double depth = h + rise - x.y();
+    return depth > 0 ? fraction * unit_weight * depth : 0.0;
+  }
+};
+
+}  // namespace
+
 long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
                                 const Config& config, double t, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history = static_cast<std::size_t>(P.history_width);
   const bool undrained = config.water.mode == WaterMode::Undrained;
-  const double fraction = gravity_fraction(config, t);
+  const WaterSettings& water = config.water;
+  const TableNow table{water.table.data(), water.table.size(), water.rise.empty() ? 0.0 : water.rise_at(t),
+                       water.unit_weight, gravity_fraction(config, t)};
   long bad = -1;
 #pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
     const Vec4& d = d_eps[p];
-    double u = fraction * config.water.pore_pressure(P.x[p], t);
+    double u = table.pore_pressure(P.x[p]);
     if (isolated[p]) {
       P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
     } else {
       const MaterialState& material = config.materials[config.material_of_body[P.body[p]]];
       const double volumetric = d[0] + d[1] + d[2];
-      Vec4 effective = P.sigma[p];
+      Vec4& sigma = P.sigma[p];  // total; effective in between (in place: a copy measured slower)
       const double u_old = P.pore_pressure[p];
-      effective[0] += u_old, effective[1] += u_old, effective[2] += u_old;
-      update_stress(material, effective, d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+      sigma[0] += u_old, sigma[1] += u_old, sigma[2] += u_old;
+      update_stress(material, sigma, d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
       if (undrained) {
         P.excess_pore_pressure[p] -= material.pore_stiffness * volumetric;
         u += P.excess_pore_pressure[p];
       }
-      effective[0] -= u, effective[1] -= u, effective[2] -= u;
-      P.sigma[p] = effective;
+      sigma[0] -= u, sigma[1] -= u, sigma[2] -= u;
       P.volume[p] = std::min(P.volume[p] * (1 + volumetric), kMaxVolumeGrowth * config.initial_volume[P.id[p]]);
     }
     P.pore_pressure[p] = u;
