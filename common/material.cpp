@@ -9,8 +9,11 @@ namespace talus {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-const char* const kParameters[] = {"density",  "youngs_modulus", "poisson_ratio",   "friction_angle",
-                                   "cohesion", "dilation_angle", "tensile_strength"};
+const char* const kParameters[] = {"density",           "youngs_modulus",          "poisson_ratio",
+                                   "friction_angle",    "cohesion",                "dilation_angle",
+                                   "tensile_strength",  "saturated_density",       "porosity",
+                                   "residual_cohesion", "residual_friction_angle", "residual_dilation_angle",
+                                   "softening_start",   "softening_end",           "softening_reference_size"};
 
 }  // namespace
 
@@ -26,6 +29,17 @@ std::optional<MaterialProblem> parameter_problem(const Material& m, const std::s
   if (key == "cohesion") return in(m.cohesion, {0, kInf});
   if (key == "dilation_angle") return in(m.dilation_angle, {0, m.friction_angle});
   if (key == "tensile_strength") return in(m.tensile_strength, {-kInf, kInf});  // < 0: no cut-off
+  if (key == "saturated_density") return in(m.saturated_density, {0, kInf});      // 0: density
+  if (key == "porosity") return in(m.porosity, {0, 1, true, false});
+  if (key == "residual_cohesion") return in(m.residual_cohesion, {0, kInf});
+  if (key == "residual_friction_angle") return in(m.residual_friction_angle, {0, 90, true, false});
+  if (key == "residual_dilation_angle") return in(m.residual_dilation_angle, {0, m.residual_friction_angle});
+  if (key == "softening_start") return in(m.softening_start, {0, kInf});
+  if (key == "softening_end") {
+    if (m.softening_end == 0) return std::nullopt;  // no softening
+    return in(m.softening_end, {m.softening_start, kInf, false});
+  }
+  if (key == "softening_reference_size") return in(m.softening_reference_size, {0, kInf});
   throw Error("internal error: no material parameter '" + key + "'");
 }
 
@@ -34,6 +48,10 @@ std::optional<MaterialProblem> material_problem(const Material& m) {
     if (auto problem = parameter_problem(m, key)) return problem;
   if (m.model == MaterialModel::MohrCoulomb && m.friction_angle == 0 && m.cohesion == 0)
     return MaterialProblem{"cohesion", "a Mohr-Coulomb material needs friction_angle > 0 or cohesion > 0"};
+  if (m.model == MaterialModel::MohrCoulomb && m.softening_end > 0 && m.residual_friction_angle == 0 &&
+      m.residual_cohesion == 0)
+    return MaterialProblem{"residual_cohesion",
+                           "a softening material needs residual_friction_angle > 0 or residual_cohesion > 0"};
   return std::nullopt;
 }
 

@@ -90,6 +90,40 @@ void read_setting(const h5::File& file, const std::string& group, const char* na
   value = static_cast<Integer>(h5::get_int(file, group, name));
 }
 
+// settings/water, only when there is a table: attributes unit_weight, mode, bulk_modulus and
+// the datasets table [n, 2] and rise [m, 2].
+void write_water(const h5::File& file, const WaterSettings& water) {
+  if (!water.enabled()) return;
+  h5::create_group(file, "settings/water");
+  h5::set_attribute(file, "settings/water", "unit_weight", water.unit_weight);
+  h5::set_attribute(file, "settings/water", "mode", std::string(water_mode_name(water.mode)));
+  h5::set_attribute(file, "settings/water", "bulk_modulus", water.bulk_modulus);
+  h5::write(file, "settings/water/table", talus::flatten(water.table), {water.table.size(), 2});
+  h5::write(file, "settings/water/rise", talus::flatten(water.rise), {water.rise.size(), 2});
+}
+
+WaterSettings read_water(const h5::File& file) {
+  WaterSettings water;
+  if (!h5::exists(file, "settings/water")) return water;
+  water.unit_weight = h5::get_double(file, "settings/water", "unit_weight");
+  water.bulk_modulus = h5::get_double(file, "settings/water", "bulk_modulus");
+  const std::string mode = h5::get_string(file, "settings/water", "mode");
+  if (mode == "drained") water.mode = WaterMode::Drained;
+  else if (mode == "undrained") water.mode = WaterMode::Undrained;
+  else throw Error(located(file.path(), "settings/water@mode", "unknown mode '" + mode + "' (expected drained or undrained)"));
+  for (const char* name : {"table", "rise"}) {
+    const std::string path = std::string("settings/water/") + name;
+    h5::Dims dims;
+    const auto flat = h5::read_doubles(file, path, &dims);
+    check_finite(file, path, flat);
+    (std::string(name) == "table" ? water.table : water.rise) =
+        unflatten<Eigen::Vector2d>(flat, dims, file, path, dims.empty() ? 0 : dims[0]);
+  }
+  if (const std::string problem = water_problem(water); !problem.empty())
+    throw Error(located(file.path(), "settings/water", problem));
+  return water;
+}
+
 }  // namespace
 
 void write_format_tag(const h5::File& file, const std::string& kind, int version) {
@@ -151,6 +185,8 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::write(file, "settings/contact/pair_bodies", pair_names);
   h5::write(file, "settings/contact/pair_friction", pair_friction, {pair_friction.size()});
 
+  write_water(file, model.water);
+
   const PostSettings& post = model.post;
   h5::create_group(file, "settings/post");
   h5::write(file, "settings/post/metrics", post.metrics);
@@ -191,7 +227,10 @@ void read_metadata(const h5::File& file, Model& model) {
     if (kind == "mohr_coulomb") m.model = MaterialModel::MohrCoulomb;
     else if (kind == "linear_elastic") m.model = MaterialModel::LinearElastic;
     else throw Error(located(file.path(), group + "@model", "unknown material model '" + kind + "'"));
-    for_each_material_parameter(m, [&](const char* key, auto& value) { read_setting(file, group, key, value); });
+    for_each_material_parameter(m, [&](const char* key, auto& value) {
+      if (optional_material_parameter(key) && !h5::has_attribute(file, group, key)) return;
+      read_setting(file, group, key, value);
+    });
     check_material(m, file.path(), group + "@");
     model.materials.push_back(m);
   }
@@ -228,6 +267,8 @@ void read_metadata(const h5::File& file, Model& model) {
       throw Error(located(file.path(), "settings/contact/pair_friction", "expected finite numbers >= 0"));
     model.contact.pairs.push_back({pair_names[2 * i], pair_names[2 * i + 1], pair_friction[i]});
   }
+
+  model.water = read_water(file);
 
   PostSettings& post = model.post;
   post.metrics = h5::read_strings(file, "settings/post/metrics");

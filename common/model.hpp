@@ -62,6 +62,7 @@ struct Model {
   RunSettings run;
   ContactSettings contact;
   PostSettings post;
+  WaterSettings water;  // settings/water (absent: no water table)
 
   std::size_t particle_count() const { return position.size(); }
 };

@@ -6,6 +6,8 @@
 // visit(name, value) receives a reference to a double, bool, int, long, Eigen::Vector2d or Transfer;
 // const when the settings are.
 #pragma once
+#include <string>
+
 #include "common/scene.hpp"
 
 namespace talus {
@@ -38,6 +40,20 @@ void for_each_material_parameter(M& material, Visit&& visit) {
   visit("cohesion", material.cohesion);
   visit("dilation_angle", material.dilation_angle);
   visit("tensile_strength", material.tensile_strength);
+  visit("saturated_density", material.saturated_density);
+  visit("porosity", material.porosity);
+  visit("residual_cohesion", material.residual_cohesion);
+  visit("residual_friction_angle", material.residual_friction_angle);
+  visit("residual_dilation_angle", material.residual_dilation_angle);
+  visit("softening_start", material.softening_start);
+  visit("softening_end", material.softening_end);
+  visit("softening_reference_size", material.softening_reference_size);
+}
+
+// The parameters added after the first model format: a file without them gets the defaults.
+inline bool optional_material_parameter(const std::string& name) {
+  return name == "saturated_density" || name == "porosity" || name.rfind("residual_", 0) == 0 ||
+         name.rfind("softening_", 0) == 0;
 }
 
 }  // namespace talus

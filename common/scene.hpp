@@ -24,7 +24,52 @@ struct Material {
   double cohesion = 0;          // Pa
   double dilation_angle = 0;    // deg
   double tensile_strength = -1; // Pa; < 0: no tension cut-off (the cone's own apex limits tension)
+  // With a water table ([water]): the density below it (0: `density` everywhere), and the
+  // porosity n of the undrained mode's pore-water stiffness K_w / n (0: no excess pore pressure).
+  double saturated_density = 0;  // kg/m^3
+  double porosity = 0;           // -, in [0, 1)
+  // Strain softening (Mohr-Coulomb only; softening_end = 0: none). Between the equivalent
+  // plastic shear strains softening_start and softening_end, c, phi and psi fall linearly from
+  // their peak values to these residual ones (docs/water.md). With softening_reference_size
+  // > 0 the two strains are scaled by that size over the mesh's element size.
+  double residual_cohesion = 0;        // Pa
+  double residual_friction_angle = 0;  // deg
+  double residual_dilation_angle = 0;  // deg
+  double softening_start = 0;          // -
+  double softening_end = 0;            // -
+  double softening_reference_size = 0; // m; 0: no regularisation
 };
+
+// [water]: a phreatic surface. Pore pressure is positive in compression; below the table it is
+// hydrostatic in the vertical depth under the table at the point's x, u = unit_weight (h(x) - y)
+// (docs/water.md). Total stress = effective stress - u I (tension positive).
+enum class WaterMode { Drained, Undrained };
+
+struct WaterSettings {
+  std::vector<Eigen::Vector2d> table;  // m; polyline, x strictly increasing; empty: no water
+  double unit_weight = 9810;           // N/m^3
+  WaterMode mode = WaterMode::Drained;
+  double bulk_modulus = 2.2e9;         // Pa, of the pore water (undrained)
+  // The table's rise with time: (t, dh) pairs, t increasing; the table is shifted up by dh
+  // interpolated linearly in t (constant before the first and after the last). Empty: fixed.
+  std::vector<Eigen::Vector2d> rise;
+
+  bool enabled() const { return !table.empty(); }
+  // The table's rise at time t (m).
+  double rise_at(double t) const;
+  // The table's height at x (m), held level beyond its ends, at time t.
+  double height(double x, double t = 0) const;
+  // Hydrostatic pore pressure at a point (Pa): unit_weight * max(0, height(x, t) - y).
+  double pore_pressure(const Eigen::Vector2d& point, double t = 0) const {
+    const double depth = height(point.x(), t) - point.y();
+    return depth > 0 ? unit_weight * depth : 0.0;
+  }
+};
+const char* water_mode_name(WaterMode mode);  // "drained", "undrained"
+// "" when the settings are sound: a table of >= 2 finite points with x strictly increasing, rise
+// times strictly increasing, unit_weight and bulk_modulus finite and > 0; else the problem.
+std::string water_problem(const WaterSettings& water);
+
 
 // Geostatic initial stress for horizontally layered ground: sigma_yy = -rho g (surface - y),
 // sigma_xx = sigma_zz = k0 sigma_yy (compression negative).
@@ -133,6 +178,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Body> bodies;
   std::vector<Boundary> boundaries;
+  WaterSettings water;
   std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
 
   int material_index(const std::string& name) const;  // -1 if absent

@@ -1,4 +1,6 @@
 // The reader of the scene's [materials.NAME] tables; the ranges are common/material.hpp's.
+#include <algorithm>
+
 #include "common/material.hpp"
 #include "common/scene_reader.hpp"
 
@@ -28,7 +30,22 @@ Material read_material(TableReader& top, const std::string& name, const toml::ta
     parameter(&Material::dilation_angle, "dilation_angle", 0.0);
     // In a scene, no tensile_strength is no cut-off; a strength given is a number >= 0.
     m.tensile_strength = r.has("tensile_strength") ? r.number("tensile_strength", std::nullopt, 0, kInf) : -1;
+    // Softening: the residual values default to the peak ones, and need softening_end.
+    const bool softening = r.has("softening_end");
+    for (const char* key : {"residual_cohesion", "residual_friction_angle", "residual_dilation_angle",
+                            "softening_start", "softening_reference_size"})
+      if (!softening && r.has(key)) r.fail(key, "needs softening_end (the plastic strain at which the strength is residual)");
+    parameter(&Material::softening_start, "softening_start", 0.0);
+    parameter(&Material::softening_end, "softening_end", 0.0);
+    if (softening && m.softening_end == 0) r.fail("softening_end", "got 0, expected a number > softening_start");
+    parameter(&Material::residual_cohesion, "residual_cohesion", m.cohesion);
+    parameter(&Material::residual_friction_angle, "residual_friction_angle", m.friction_angle);
+    parameter(&Material::residual_dilation_angle, "residual_dilation_angle",
+              std::min(m.dilation_angle, m.residual_friction_angle));
+    parameter(&Material::softening_reference_size, "softening_reference_size", 0.0);
   }
+  parameter(&Material::saturated_density, "saturated_density", 0.0);
+  parameter(&Material::porosity, "porosity", 0.0);
   if (const auto problem = material_problem(m)) r.fail(problem->key, problem->message);
   r.finish();
   return m;

@@ -92,5 +92,6 @@ void read_bodies(TableReader& top, Scene& scene);       // [bodies.NAME], after 
 void read_boundaries(TableReader& top, Scene& scene);   // [boundaries.NAME]
 void read_contact(TableReader& top, Scene& scene);      // [contact], [[contact.pairs]], after the bodies
 void read_post(TableReader& top, Scene& scene);         // [post], after the bodies
+void read_water(TableReader& top, Scene& scene);        // [water] (common/scene_water.cpp)
 
 }  // namespace talus::scene_reader

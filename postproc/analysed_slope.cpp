@@ -54,4 +54,18 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const So
   return bishop;
 }
 
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Material& material, double gravity,
+                                            const WaterSettings& water) {
+  const SoilStrength soil{material.cohesion, material.friction_angle, material.density * gravity};
+  if (!water.enabled()) return critical_circle(slope, soil);
+  if (has_vertical_face(slope.profile.surface)) return std::nullopt;
+  const double saturated = (material.saturated_density > 0 ? material.saturated_density : material.density) * gravity;
+  const Mirror mirror = slope.mirror;
+  const WaterTableSoil ground(soil, saturated, water.unit_weight,
+                              [&water, mirror](double x) { return water.height(mirror.x(x)); });
+  std::optional<BishopResult> bishop = bishop_search(slope.profile, ground);
+  if (bishop) bishop = mirrored(*bishop, slope.mirror);
+  return bishop;
+}
+
 }  // namespace talus::postproc

@@ -52,4 +52,9 @@ std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector
 // and for a surface with a vertical face, which a method of slices cannot treat.
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil);
 
+// The same with the model's water table (none: as above): the material's saturated density below
+// the table and the table's pore pressures on the slice bases (WaterTableSoil), the table at t = 0.
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Material& material, double gravity,
+                                            const WaterSettings& water);
+
 }  // namespace talus::postproc

@@ -18,4 +18,17 @@ void write_bishop_keys(JsonWriter& json, const std::optional<BishopResult>& resu
   json.key("bishop_circles_evaluated").value(result->circles_evaluated);
 }
 
+void write_water_keys(JsonWriter& json, const WaterSettings& water) {
+  if (!water.enabled()) {
+    json.key("water").null();
+    return;
+  }
+  json.key("water").begin_object()
+      .key("table_m").value(Polyline(water.table))
+      .key("unit_weight_N_m3").value(water.unit_weight)
+      .key("mode").value(water_mode_name(water.mode))
+      .key("rise").value(Polyline(water.rise))
+      .end_object();
+}
+
 }  // namespace talus::postproc

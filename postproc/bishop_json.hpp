@@ -3,6 +3,7 @@
 #pragma once
 #include <optional>
 
+#include "common/scene.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/output.hpp"
 
@@ -12,5 +13,9 @@ namespace talus::postproc {
 // bishop_circle_kind ("toe", "face" or "base"), bishop_tangent_to_base, bishop_circles_evaluated;
 // all null when there is no admissible circle. `result` is in the scene's frame (see mirrored).
 void write_bishop_keys(JsonWriter& json, const std::optional<BishopResult>& result);
+
+// water: null without a water table, else {table_m: [[x, y], ...], unit_weight_N_m3, mode
+// ("drained" or "undrained"), rise: [[t_s, dh_m], ...]}: the table Bishop and the solver used.
+void write_water_keys(JsonWriter& json, const WaterSettings& water);
 
 }  // namespace talus::postproc

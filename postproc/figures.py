@@ -5,7 +5,9 @@
 
 Writes into --out, according to what metrics.json holds:
   deformed.png     final particles coloured by displacement magnitude, with the initial outlines,
-                   the slip surface, its fitted circle, the Bishop critical circle, the shear band
+                   the slip surface, its fitted circle, the Bishop critical circle, the shear band,
+                   and the water table at the start and at the end (scenes with [water])
+  pore_pressure.png  final particles coloured by pore pressure, with the water table ([water] only)
   front.png        deposit front position and velocity over time   (metric "runout")
   energy.png       kinetic, strain and change of potential energy   (always)
   spring_mass.png  MPM settlement against A (1 - cos(omega t))      (metric "spring_mass")
@@ -53,6 +55,59 @@ def save(fig, out, name, written):
     written.append(path)
 
 
+def water_tables(results):
+    """The water table at the first and the last frame, [(label, xy)], [] without [water]."""
+    with h5py.File(results, "r") as f:
+        if "settings/water" not in f:
+            return []
+        table = f["settings/water/table"][...].reshape(-1, 2)
+        rise = f["settings/water/rise"][...].reshape(-1, 2)
+        times = f["frames/time"][...]
+    tables = []
+    for label, t in (("water table at t = %.2f s", times[0] if len(times) else 0.0),
+                     ("water table at t = %.2f s", times[-1] if len(times) else 0.0)):
+        dh = np.interp(t, rise[:, 0], rise[:, 1]) if len(rise) else 0.0
+        tables.append((label % t, table + np.array([0.0, dh])))
+    if len(rise) == 0 or np.allclose(tables[0][1], tables[1][1]):
+        tables = [("water table", table)]
+    return tables
+
+
+def draw_water(ax, tables, lo, hi):
+    for k, (label, xy) in enumerate(tables):
+        # Held level beyond its ends, as the solver reads it.
+        xs = np.concatenate([[min(lo[0], xy[0, 0])], xy[:, 0], [max(hi[0], xy[-1, 0])]])
+        ys = np.concatenate([[xy[0, 1]], xy[:, 1], [xy[-1, 1]]])
+        ax.plot(xs, ys, color="tab:blue", ls=":" if k == 0 and len(tables) > 1 else "-", lw=1.4, label=label)
+
+
+def pore_pressure(results, metrics, out, written):
+    with h5py.File(results, "r") as f:
+        if "frames/pore_pressure" not in f:
+            return
+        x1 = f["frames/position"][-1]
+        u = f["frames/pore_pressure"][-1]
+        volume = f["particles/volume"][...]
+        time = f["frames/time"][-1]
+    fig, ax = plt.subplots(figsize=(10, 5))
+    span = max(np.ptp(x1, axis=0)[0], 1e-9)
+    marker = max((np.sqrt(np.median(volume)) * 8.5 * 72 / span) ** 2, 0.3)
+    points = ax.scatter(x1[:, 0], x1[:, 1], c=u / 1e3, s=marker, cmap="Blues", linewidths=0)
+    fig.colorbar(points, cax=make_axes_locatable(ax).append_axes("right", size="2.5%", pad=0.1),
+                 label="pore pressure (kPa, compression positive)")
+    lo, hi = x1.min(axis=0), x1.max(axis=0)
+    draw_water(ax, water_tables(results)[-1:], lo, hi)
+    pad = 0.05 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title("%s: pore pressure at t = %.2f s" % (metrics.get("scene", ""), time))
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=8, frameon=False)
+    save(fig, out, "pore_pressure.png", written)
+
+
 def deformed(results, metrics, out, written):
     with h5py.File(results, "r") as f:
         x0 = f["particles/initial_position"][...]
@@ -98,6 +153,7 @@ def deformed(results, metrics, out, written):
     everything = np.vstack([x1] + outlines)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
     pad = 0.05 * (hi - lo).max()
+    draw_water(ax, water_tables(results), lo, hi)
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
@@ -163,6 +219,7 @@ def main():
     written = []
     if asked & {"runout", "failure_surface", "bishop"} or not asked & {"spring_mass", "box_incline"}:
         deformed(args.results, metrics, args.out, written)
+        pore_pressure(args.results, metrics, args.out, written)
     if "runout" in asked:
         front(args.out, written)
     energy(args.out, written)

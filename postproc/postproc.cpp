@@ -128,8 +128,9 @@ void slope_metrics(const Results& results, const AnalysedBody& body, const std::
     if (material.model != MaterialModel::MohrCoulomb)
       throw Error(located(file, "materials/" + material.name,
                           "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle)"));
-    m.soil = {material.cohesion, material.friction_angle, material.density * results.metadata.run.gravity.norm()};
-    m.bishop = critical_circle(slope, m.soil);
+    const double gravity = results.metadata.run.gravity.norm();
+    m.soil = {material.cohesion, material.friction_angle, material.density * gravity};
+    m.bishop = critical_circle(slope, material, gravity, results.metadata.water);
   }
 }
 
@@ -205,6 +206,7 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
         .key("friction_angle_deg").value(m.soil.friction_angle)
         .key("unit_weight_N_m3").value(m.soil.unit_weight)
         .end_object();
+    write_water_keys(json, results.metadata.water);
   }
   if (m.spring) {
     json.key("spring_mass").begin_object()

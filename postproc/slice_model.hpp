@@ -4,7 +4,9 @@
 // these and never looks at soil properties itself, so a layered ground, a water table or a
 // surcharge is another SliceModel and the same circle search serves it.
 #pragma once
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace talus::postproc {
 
@@ -48,6 +50,30 @@ class UniformSoil final : public SliceModel {
  private:
   SoilStrength soil_;
   double tan_phi_;
+};
+
+// One soil with a water table h(x) (canonical frame, any callable of x): the column weighs
+// gamma above the table and gamma_sat below it, and the pore pressure at the base is hydrostatic
+// in the vertical depth below the table, u = gamma_w max(0, h(x) - bottom) (the convention of
+// the solver, docs/water.md). The table is capped at the ground in the weight: water ponded
+// above the ground is not a load here.
+template <class Table>
+class WaterTableSoil final : public SliceModel {
+ public:
+  WaterTableSoil(const SoilStrength& soil, double saturated_unit_weight, double water_unit_weight, Table table)
+      : soil_(soil), tan_phi_(std::tan(soil.friction_angle * M_PI / 180.0)), saturated_(saturated_unit_weight),
+        water_(water_unit_weight), table_(std::move(table)) {}
+  SliceForces forces(const Slice& s) const override {
+    const double h = table_(s.x);
+    const double wet_top = std::min(std::max(h, s.bottom), s.top);
+    const double weight = s.width * (soil_.unit_weight * (s.top - wet_top) + saturated_ * (wet_top - s.bottom));
+    return {weight, soil_.cohesion, tan_phi_, water_ * std::max(0.0, h - s.bottom)};
+  }
+
+ private:
+  SoilStrength soil_;
+  double tan_phi_, saturated_, water_;
+  Table table_;
 };
 
 }  // namespace talus::postproc

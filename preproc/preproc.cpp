@@ -149,11 +149,50 @@ int material_of(const Scene& scene, const Body& body) {
 
 // Geostatic stress of horizontally layered ground, tension positive: the weight of the
 // material above, sigma_yy = -rho |g| (surface - y), and sigma_xx = sigma_zz = k0 sigma_yy.
-// Above the surface there is no overburden.
-Eigen::Vector4d geostatic_stress(const InitialStress& initial, double surface, double density, double gravity,
-                                 double y) {
-  const double sigma_yy = -density * gravity * std::max(0.0, surface - y);
-  return {initial.k0 * sigma_yy, sigma_yy, initial.k0 * sigma_yy, 0};
+// Above the surface there is no overburden. With a water table at height h (at the point's x,
+// capped at the surface) the ground below it weighs rho_sat, the pore pressure is
+// u = gamma_w (h - y) below it, and k0 acts on the effective stress:
+//   sigma'_yy = sigma_yy + u, sigma'_xx = sigma'_zz = k0 sigma'_yy, sigma = sigma' - u I.
+Eigen::Vector4d geostatic_stress(const InitialStress& initial, double surface, const Material& material,
+                                 double gravity, const WaterSettings& water, const Eigen::Vector2d& point) {
+  const double y = point.y();
+  if (!water.enabled()) {
+    const double sigma_yy = -material.density * gravity * std::max(0.0, surface - y);
+    return {initial.k0 * sigma_yy, sigma_yy, initial.k0 * sigma_yy, 0};
+  }
+  const double table = std::min(water.height(point.x()), surface);
+  const double saturated = material.saturated_density > 0 ? material.saturated_density : material.density;
+  const double dry_depth = std::max(0.0, surface - std::max(y, table));
+  const double wet_depth = std::max(0.0, table - y);
+  const double sigma_yy = -gravity * (material.density * dry_depth + saturated * wet_depth);
+  const double u = water.pore_pressure(point);
+  const double effective_yy = sigma_yy + u;
+  return {initial.k0 * effective_yy - u, sigma_yy, initial.k0 * effective_yy - u, 0};
+}
+
+// The density of a particle: saturated below the water table (at t = 0), dry above it.
+double density_at(const Material& material, const WaterSettings& water, const Eigen::Vector2d& point) {
+  if (water.enabled() && material.saturated_density > 0 && point.y() < water.height(point.x()))
+    return material.saturated_density;
+  return material.density;
+}
+
+// A water table must reach over the domain: its x range overlaps the domain's, and it is not
+// wholly below it even at its highest rise.
+void check_water_table(const WaterSettings& water, const Region& domain, const Scene& scene) {
+  if (!water.enabled()) return;
+  const Eigen::AlignedBox2d box = domain.bounds();
+  double highest = -INFINITY, rise = 0;  // the table's highest point, and its highest rise
+  for (const auto& point : water.table) highest = std::max(highest, point.y());
+  for (const auto& point : water.rise) rise = std::max(rise, point.y());
+  if (water.table.back().x() <= box.min().x() || water.table.front().x() >= box.max().x() ||
+      highest + rise <= box.min().y()) {
+    std::ostringstream message;
+    message << "the table (x from " << water.table.front().x() << " to " << water.table.back().x() << " m, highest y "
+            << highest << " m) lies outside the domain (x from " << box.min().x() << " to " << box.max().x()
+            << " m, y from " << box.min().y() << " to " << box.max().y() << " m)";
+    throw Error(located(scene.path, "water.table", message.str()));
+  }
 }
 
 }  // namespace
@@ -193,6 +232,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
     domain_loops.push_back(std::move(points));
   }
   const Region domain(std::move(domain_loops));
+  check_water_table(scene.water, domain, scene);
 
   // 3. Bodies.
   std::vector<Region> regions;
@@ -237,14 +277,14 @@ Model build_model(const Scene& scene, MeshReport* report) {
   for (std::size_t p = 0; p < n; ++p) {
     const Body& body = scene.bodies[model.body[p]];
     const Material& material = model.materials[model.bodies[model.body[p]].material];
-    model.mass[p] = material.density * model.volume[p];
+    model.mass[p] = density_at(material, scene.water, model.position[p]) * model.volume[p];
     // A fixed body is a support: it never moves, whatever initial velocity it was given.
     model.velocity[p] = body.fixed ? Eigen::Vector2d::Zero() : body.initial_velocity;
     model.stress[p].setZero();
     if (body.initial_stress) {
       const double surface = body.initial_stress->surface.value_or(regions[model.body[p]].highest_y());
       model.stress[p] =
-          geostatic_stress(*body.initial_stress, surface, material.density, gravity, model.position[p].y());
+          geostatic_stress(*body.initial_stress, surface, material, gravity, scene.water, model.position[p]);
     }
   }
 
@@ -262,6 +302,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.run = scene.run;
   model.contact = scene.contact;
   model.post = scene.post;
+  model.water = scene.water;
 
   if (report) {
     const Clock::time_point done = Clock::now();

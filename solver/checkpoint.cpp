@@ -69,6 +69,12 @@ std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& mod
   Fingerprint run;
   for_each_run_setting(model.run, [&](const char*, const auto& value) { add_setting(run, value); });
   sections.emplace_back("run settings", stored(run));
+  if (model.water.enabled()) {  // no section without water: dry checkpoints keep their fingerprints
+    const WaterSettings& w = model.water;
+    Fingerprint water;
+    water.add(w.table).add(w.unit_weight).add(static_cast<int>(w.mode)).add(w.bulk_modulus).add(w.rise);
+    sections.emplace_back("water", stored(water));
+  }
   return sections;
 }
 

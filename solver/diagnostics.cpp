@@ -45,7 +45,7 @@ Energies energies(const Simulation& sim) {
       ordered_sum<ParticleEnergies>(static_cast<long>(P.moving_count), threads, [&](long p) {
         return ParticleEnergies{0.5 * P.m[p] * P.v[p].squaredNorm(), -P.m[p] * c.gravity.dot(P.x[p]),
                                 P.volume[p] * elastic_energy_density(c.materials[c.material_of_body[P.body[p]]],
-                                                                     P.sigma[p])};
+                                                                     effective_stress(P, p))};
       });
   // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
   // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they

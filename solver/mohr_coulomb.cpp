@@ -168,7 +168,12 @@ MohrCoulombParams MohrCoulombParams::from(double youngs_modulus, double poisson_
   for (const char* key : {"youngs_modulus", "poisson_ratio", "friction_angle", "dilation_angle", "cohesion"})
     if (const auto problem = parameter_problem(material, key))
       throw Error("Mohr-Coulomb material: " + problem->key + ": " + problem->message);
+  return unchecked(youngs_modulus, poisson_ratio, friction_angle_deg, cohesion, dilation_angle_deg, tensile_strength);
+}
 
+MohrCoulombParams MohrCoulombParams::unchecked(double youngs_modulus, double poisson_ratio,
+                                               double friction_angle_deg, double cohesion,
+                                               double dilation_angle_deg, double tensile_strength) {
   MohrCoulombParams p;
   p.shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
   p.bulk_modulus = youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio));

@@ -55,6 +55,10 @@ struct MohrCoulombParams {   // built once from the material by from(), never in
   static MohrCoulombParams from(double youngs_modulus, double poisson_ratio,
                                 double friction_angle_deg, double cohesion,
                                 double dilation_angle_deg, double tensile_strength);
+  // The same without the guard, for values already known to be in range (a softening
+  // material's strength between its checked peak and residual, solver/material.cpp).
+  static MohrCoulombParams unchecked(double youngs_modulus, double poisson_ratio, double friction_angle_deg,
+                                     double cohesion, double dilation_angle_deg, double tensile_strength);
 };
 
 // Linear elastic trial: sigma += D d_eps, plane strain isotropic, D = lambda 1 (x) 1 + 2G I

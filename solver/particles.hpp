@@ -5,6 +5,7 @@
 // every visitor skips it, so an unused field costs neither memory nor time.
 #pragma once
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "solver/mesh.hpp"
@@ -28,6 +29,8 @@ enum FieldRole : unsigned {
   FIELD(Vec4, sigma, "stress", "Pa", kCheckpointed | kWritten)                   \
   FIELD(double, eps_p, "plastic_strain", "-", kCheckpointed | kWritten)          \
   FIELD(double, history, "", "-", kCheckpointed)                                 \
+  FIELD(double, pore_pressure, "pore_pressure", "Pa", kCheckpointed | kWritten)  \
+  FIELD(double, excess_pore_pressure, "", "Pa", kCheckpointed)                   \
   FIELD(Vec4, C, "", "1/s", kCheckpointed)                                       \
   FIELD(int32_t, body, "", "-", kCheckpointed)                                   \
   FIELD(int32_t, element, "", "-", kCheckpointed)                                \
@@ -44,7 +47,10 @@ struct FieldInfo {
 // x position (m), v velocity (m/s), m mass (kg/m), volume (m^2 per m thickness), sigma Cauchy
 // stress (Pa), eps_p equivalent plastic shear strain, C APIC's affine velocity matrix
 // C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), body and element
-// indices, id the index in the model's (and the results') order. Particles of fixed bodies are kept after all the
+// indices, id the index in the model's (and the results') order. With a water table,
+// pore_pressure u (Pa, positive in compression) and, undrained, its excess over the hydrostatic
+// part; sigma is then the TOTAL stress and the effective stress is sigma + u (1, 1, 1, 0)
+// (docs/water.md). Both are empty without water. Particles of fixed bodies are kept after all the
 // others (indices [moving_count, size)), so the update loops run over [0, moving_count) only.
 struct Particles {
 #define TALUS_DECLARE_FIELD(type, member, results_name, unit, roles) std::vector<type> member;
@@ -67,6 +73,19 @@ struct Particles {
 #undef TALUS_VISIT_FIELD
   }
 };
+
+// Whether a simulation fills a written field, so that results.h5 has its frames: the pore
+// pressure only with a water table (`water`); every other written field always.
+inline bool field_written(const FieldInfo& field, bool water) {
+  return (field.roles & kWritten) && (water || std::string_view(field.name) != "pore_pressure");
+}
+
+// The effective stress of particle p: sigma + u (1, 1, 1, 0) with water, sigma without.
+inline Vec4 effective_stress(const Particles& P, std::size_t p) {
+  if (P.pore_pressure.empty()) return P.sigma[p];
+  const double u = P.pore_pressure[p];
+  return P.sigma[p] + Vec4(u, u, u, 0);
+}
 
 // Values per particle of a column (0 for an unused field).
 template <class T>

@@ -57,6 +57,7 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
       initial_position_(model.position),
+      water_(model.water.enabled()),
       file_(h5::File::create(path_)) {
   std::tie(device_, inode_) = identity(path_);
   guarded([&] {
@@ -90,6 +91,7 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
       initial_position_(model.position),
+      water_(model.water.enabled()),
       file_(open_existing(path_)) {
   std::tie(device_, inode_) = identity(path_);
   if (h5::get_int(file_, "/", "particles") != static_cast<int64_t>(particles_))
@@ -134,7 +136,7 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
   Particles widths;  // the registry's element widths: one particle of every field
   widths.for_each_field([&](const FieldInfo& field, auto& column) {
     using T = typename std::decay_t<decltype(column)>::value_type;
-    if (field.roles & kWritten) add(field.results_name, FieldElement<T>::width);
+    if (field_written(field, water_)) add(field.results_name, FieldElement<T>::width);
   });
   history_time_ = history_set("history/time");
   history_kinetic_ = history_set("history/kinetic_energy");
@@ -175,7 +177,7 @@ void ResultsWriter::write_frame_data(const Simulation& sim) {
   for (std::size_t p = 0; p < P.size(); ++p) displacement_[p] = P.x[p] - initial_position_[P.id[p]];
   append(*set++, displacement_);
   P.for_each_field([&](const FieldInfo& field, const auto& column) {
-    if (field.roles & kWritten) append(*set++, column);
+    if (field_written(field, water_)) append(*set++, column);
   });
   time_.push_back(sim.time);
   write_frame_views(file_, n, time_.size() - 1, fields());

@@ -64,6 +64,7 @@ class ResultsWriter {
   unsigned long long device_ = 0, inode_ = 0;  // of results.h5 when this writer opened it
   std::size_t particles_;
   std::vector<Eigen::Vector2d> initial_position_;  // the model's, in its order
+  bool water_;  // the model has a water table: frames/pore_pressure (field_written)
   h5::File file_;
   h5::Appendable time_set_;
   // frames/velocity (the grid velocity at the particles) and frames/displacement (position less

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "common/error.hpp"
+#include "solver/pore_pressure.hpp"
 #include "solver/simulation.hpp"
 
 namespace talus::solver {
@@ -77,11 +78,14 @@ Simulation make_simulation(const Model& model, int threads) {
   config.evs = model.run.evs;
   config.initial_volume = model.volume;
   for (const auto& material : model.materials) config.materials.push_back(make_material(material));
+  config.water = model.water;
+  prepare_materials(config, model);
   for (const auto& body : model.bodies) {
     config.material_of_body.push_back(body.material);
     config.body_fixed.push_back(body.fixed);
   }
   sim.particles = particles_of(model, config);
+  initial_pore_pressures(sim.particles, config, 0);
   reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, config.mesh, sim.particles.size());
   sort_particles(sim);
   sim.reorders = 0;

@@ -34,6 +34,7 @@ struct Config {
   int xpic_order = 1;        // Xpic only: m
   bool evs = false;          // enhanced volumetric strain
   std::vector<double> initial_volume;  // m^2, by particle id: the cap on its growth (step.hpp)
+  WaterSettings water;       // the water table (water.enabled(): pore pressures, pore_pressure.cpp)
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
 };

@@ -1,5 +1,7 @@
 #include "solver/step.hpp"
 
+#include "solver/pore_pressure.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -38,8 +40,10 @@ bool step(Simulation& sim, double dt) {
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
   find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);
-  s.bad_particle = update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
-                                  threads);
+  s.bad_particle = c.water.enabled()
+                       ? update_stresses_with_water(P, s.d_eps, s.isolated, c, sim.time + dt, threads)
+                       : update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
+                                         threads);
   s.lost_particle = relocate_particles(c.mesh, P, s.stencil, threads);
   sim.time += dt;
   ++sim.steps;

@@ -67,9 +67,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double degrees(double radians) { return radians * 180.0 / M_PI; }
-double radians(double degrees) { return degrees * M_PI / 180.0; }
-
 double moving_mass(const Simulation& sim) {
   double mass = 0;
   for (std::size_t p = 0; p < sim.particles.moving_count; ++p) mass += sim.particles.m[p];
@@ -182,12 +179,7 @@ double elastic_period(const ReductionProblem& problem) {
 void reduce_strength(Simulation& sim, const Model& model, double factor) {
   for (std::size_t i = 0; i < model.materials.size(); ++i) {
     const Material& m = model.materials[i];
-    if (m.model != MaterialModel::MohrCoulomb) continue;
-    const double phi = degrees(std::atan(std::tan(radians(m.friction_angle)) / factor));
-    const double psi = degrees(std::atan(std::tan(radians(m.dilation_angle)) / factor));
-    const double tension = m.tensile_strength < 0 ? m.tensile_strength : m.tensile_strength / factor;
-    sim.config.materials[i].mohr_coulomb =
-        MohrCoulombParams::from(m.youngs_modulus, m.poisson_ratio, phi, m.cohesion / factor, std::min(psi, phi), tension);
+    if (m.model == MaterialModel::MohrCoulomb) set_strength(sim.config.materials[i], m, factor);
   }
 }
 

@@ -144,6 +144,53 @@ std::vector<Row> rows() {
        {"materials.rock.friction_angle", "got 95", "[0, 90)"}},
       {"dilation above friction", [](auto d) { return scene_change(d, "dilation_angle = 0.0", "dilation_angle = 40.0"); },
        {"materials.rock.dilation_angle", "got 40", "[0, 30]"}},
+      {"water table missing",
+       [](auto d) { return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\nunit_weight = 9810.0"); },
+       {"water.table", "missing", "[x, y]"}},
+      {"water table of one point",
+       [](auto d) { return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\ntable = [[0.0, 0.5]]"); },
+       {"water.table", "at least two"}},
+      {"water table going back",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3",
+                             "friction = 0.3\n[water]\ntable = [[0.0, 0.5], [1.5, 0.5], [1.0, 0.6]]");
+       },
+       {"water.table", "point 3", "x must increase"}},
+      {"NaN in the water table",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\ntable = [[0.0, nan], [2.0, 0.5]]");
+       },
+       {"water.table", "point 1", "not finite"}},
+      {"water table outside the domain",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\ntable = [[10.0, 0.5], [12.0, 0.5]]");
+       },
+       {"water.table", "outside the domain"}},
+      {"unknown water mode",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3",
+                             "friction = 0.3\n[water]\ntable = [[0.0, 0.5], [2.0, 0.5]]\nmode = \"wet\"");
+       },
+       {"water.mode", "drained or undrained"}},
+      {"water rise going back in time",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3",
+                             "friction = 0.3\n[water]\ntable = [[0.0, 0.5], [2.0, 0.5]]\nrise = [[1.0, 0.1], [0.5, 0.2]]");
+       },
+       {"water.rise", "point 2", "time must increase"}},
+      {"porosity of one", [](auto d) { return scene_change(d, "dilation_angle = 0.0", "dilation_angle = 0.0\nporosity = 1.0"); },
+       {"materials.rock.porosity", "got 1", "[0, 1)"}},
+      {"residual strength without softening_end",
+       [](auto d) {
+         return scene_change(d, "dilation_angle = 0.0", "dilation_angle = 0.0\nresidual_friction_angle = 20.0");
+       },
+       {"materials.rock.residual_friction_angle", "softening_end"}},
+      {"softening ending before it starts",
+       [](auto d) {
+         return scene_change(d, "dilation_angle = 0.0",
+                             "dilation_angle = 0.0\nsoftening_start = 0.05\nsoftening_end = 0.01");
+       },
+       {"materials.rock.softening_end", "got 0.01"}},
       {"zero end time", [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = 0.0"); },
        {"run.end_time", "got 0", "(0, inf]"}},
       {"negative end time", [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = -1.0"); },

@@ -88,14 +88,14 @@ TEST(LocalDamping, WithoutDampingTheTotalEnergyIsConserved) {
   EXPECT_LT(drift, 0.05 * peak);
 }
 
-TEST(GeostaticStress, AK0LayerFromThePreprocessorStartsAndStaysInEquilibrium) {
-  // A Mohr-Coulomb sand layer 2 m deep and 4 m wide under 1 m of empty domain, fixed base,
-  // roller sides, initial_stress k0 = 0.5: inside the yield surface (the active limit is
-  // (1 - sin phi) / (1 + sin phi) = 1/3), and in equilibrium, since the horizontal stress does
-  // not vary along x and the vertical one carries the weight. Run with damping 0.2 for 0.5 s
-  // (about five periods of the layer's first mode, 4 H / c_p = 0.09 s): every stress component must stay within 2 % of
-  // rho g H of its initial value, and nothing may yield.
-  ScratchDir dir("geostatic");
+namespace {
+
+// A sand layer 2 m deep and 4 m wide under 1 m of empty domain, fixed base, roller sides; the
+// scene's [run], [materials.sand] and [bodies.layer] get `run`, `material` and `body` appended,
+// and `extra` ends it.
+const char* const kK0 = "[bodies.layer.initial_stress]\nk0 = 0.5\n";
+void write_layer(const ScratchDir& dir, const std::string& run, const std::string& material, const std::string& body,
+                 const std::string& extra) {
   std::ofstream(dir.file("layer.geo")) << R"(// A horizontal layer under empty space.
 lc = 0.25;
 Point(1) = {0, 0, 0, lc};
@@ -128,6 +128,7 @@ geometry = "layer.geo"
 end_time = 0.5
 gravity = [0.0, -9.81]
 damping = 0.2
+)" << run << R"(
 
 [materials.sand]
 model = "mohr_coulomb"
@@ -136,12 +137,11 @@ youngs_modulus = 1.0e7
 poisson_ratio = 0.3
 friction_angle = 30.0
 cohesion = 1000.0
+)" << material << R"(
 
 [bodies.layer]
 material = "sand"
-
-[bodies.layer.initial_stress]
-k0 = 0.5
+)" << body << R"(
 
 [boundaries.base]
 type = "fixed"
@@ -151,7 +151,20 @@ type = "roller"
 
 [boundaries.right]
 type = "roller"
-)";
+)" << extra;
+}
+
+}  // namespace
+
+TEST(GeostaticStress, AK0LayerFromThePreprocessorStartsAndStaysInEquilibrium) {
+  // A Mohr-Coulomb sand layer 2 m deep and 4 m wide under 1 m of empty domain, fixed base,
+  // roller sides, initial_stress k0 = 0.5: inside the yield surface (the active limit is
+  // (1 - sin phi) / (1 + sin phi) = 1/3), and in equilibrium, since the horizontal stress does
+  // not vary along x and the vertical one carries the weight. Run with damping 0.2 for 0.5 s
+  // (about five periods of the layer's first mode, 4 H / c_p = 0.09 s): every stress component must stay within 2 % of
+  // rho g H of its initial value, and nothing may yield.
+  ScratchDir dir("geostatic");
+  write_layer(dir, "", "", kK0, "");
   const Scene scene = load_scene(dir.file("layer.toml"));
   const Model model = preproc::build_model(scene);
   ASSERT_GT(model.particle_count(), 0u);
@@ -179,4 +192,73 @@ type = "roller"
               sim.time, worst / scale, worst_plastic);
   EXPECT_LT(worst, 0.02 * scale);
   EXPECT_EQ(worst_plastic, 0.0);
+}
+
+// The K0 layer with a water table 1 m below its surface, rho_sat = 2100 kg/m3: the preprocessor
+// gives sigma_yy = -g (rho 1 m + rho_sat (1 - y)) below the table, u = gamma_w (1 - y), and K0 on
+// the effective stress, sigma_xx = k0 (sigma_yy + u) - u. In equilibrium it stays there (2 % of
+// rho g H), nothing yields, and the solver's pore pressures are the hydrostatic ones.
+TEST(GeostaticStress, AK0LayerWithAWaterTableStaysInEquilibrium) {
+  ScratchDir dir("geostatic_water");
+  write_layer(dir, "", "saturated_density = 2100.0\n", kK0, "[water]\ntable = [[-1.0, 1.0], [5.0, 1.0]]\n");
+  const Scene scene = load_scene(dir.file("layer.toml"));
+  const Model model = preproc::build_model(scene);
+  const double rho = 1800, rho_sat = 2100, g = 9.81, k0 = 0.5, gamma_w = 9810, scale = rho * g * 2;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    const double y = model.position[p].y();
+    const double u = gamma_w * std::max(0.0, 1 - y);
+    const double sigma_yy = y < 1 ? -g * (rho * 1 + rho_sat * (1 - y)) : -rho * g * (2 - y);
+    ASSERT_NEAR(model.stress[p][1], sigma_yy, 1e-9 * scale) << "particle " << p;
+    ASSERT_NEAR(model.stress[p][0], k0 * (sigma_yy + u) - u, 1e-9 * scale);
+    ASSERT_NEAR(model.mass[p] / model.volume[p], y < 1 ? rho_sat : rho, 1e-9);
+  }
+  omp_set_num_threads(1);
+  Simulation sim = make_simulation(model, 1);
+  while (sim.time < model.run.end_time) ASSERT_TRUE(step(sim, stable_time_step(sim, model.run.cfl)));
+  double worst = 0, worst_plastic = 0, worst_u = 0;
+  for (std::size_t p = 0; p < sim.particles.size(); ++p) {
+    const Vec4 change = sim.particles.sigma[p] - model.stress[sim.particles.id[p]];
+    worst = std::max(worst, change.cwiseAbs().maxCoeff());
+    worst_plastic = std::max(worst_plastic, sim.particles.eps_p[p]);
+    worst_u = std::max(worst_u, std::abs(sim.particles.pore_pressure[p] -
+                                         gamma_w * std::max(0.0, 1 - sim.particles.x[p].y())));
+  }
+  std::printf("K0 layer with water after %.1f s: largest stress change %.3e of rho g H, plastic strain %.2e\n",
+              sim.time, worst / scale, worst_plastic);
+  EXPECT_LT(worst, 0.02 * scale);
+  EXPECT_EQ(worst_plastic, 0.0);
+  EXPECT_LT(worst_u, 1e-9 * scale);
+}
+
+// The gravity-loading route with water: no initial stress, gravity (and with it the pore
+// pressure) ramped over 0.3 s with damping, 1.5 s in all. At rest the vertical TOTAL stress at
+// the base carries the column, g (rho 1 m + rho_sat 1 m) (within 5 %, averaged over the lowest
+// row of particles), and the effective stress there is that less the pore pressure gamma_w 1 m.
+TEST(GeostaticStress, GravityLoadingWithAWaterTableCarriesTheSaturatedWeight) {
+  ScratchDir dir("gravity_water");
+  write_layer(dir, "gravity_ramp = 0.3\n", "saturated_density = 2100.0\n", "",
+              "[water]\ntable = [[-1.0, 1.0], [5.0, 1.0]]\n");
+  Model model = preproc::build_model(load_scene(dir.file("layer.toml")));
+  model.run.end_time = 1.5;
+  omp_set_num_threads(1);
+  Simulation sim = make_simulation(model, 1);
+  while (sim.time < model.run.end_time) ASSERT_TRUE(step(sim, stable_time_step(sim, model.run.cfl)));
+  const Particles& P = sim.particles;
+  double lowest = 1e9;
+  for (std::size_t p = 0; p < P.size(); ++p) lowest = std::min(lowest, P.x[p].y());
+  double total = 0, effective = 0, u = 0, y = 0;
+  int count = 0;
+  for (std::size_t p = 0; p < P.size(); ++p)
+    if (P.x[p].y() < lowest + 0.02 && P.x[p].x() > 0.5 && P.x[p].x() < 3.5) {
+      total += P.sigma[p][1], effective += effective_stress(P, p)[1], u += P.pore_pressure[p], y += P.x[p].y();
+      ++count;
+    }
+  ASSERT_GT(count, 0);
+  total /= count, effective /= count, u /= count, y /= count;
+  const double g = 9.81, expected_total = -g * (1800 * 1 + 2100 * (1 - y)), expected_u = 9810 * (1 - y);
+  std::printf("gravity loading with water at y = %.3f m: sigma_yy %.0f Pa (expected %.0f), u %.0f Pa (expected %.0f)\n",
+              y, total, expected_total, u, expected_u);
+  EXPECT_NEAR(total, expected_total, 0.05 * std::abs(expected_total));
+  EXPECT_NEAR(u, expected_u, 1e-6 * expected_u);
+  EXPECT_NEAR(effective, expected_total + expected_u, 0.05 * std::abs(expected_total));
 }

@@ -175,3 +175,40 @@ TEST(Bishop, FrictionlessQuarterDiscMatchesClosedForm) {
 
 }  // namespace
 }  // namespace talus::postproc
+
+namespace talus::postproc {
+namespace {
+
+// An infinite slope under water: a face of beta = 20 deg, 20 m high and 55 m long, saturated
+// (gamma_sat = 23.5 kN/m3) below a table at the ground surface, c' = 0, phi' = 40 deg. With the
+// pore pressure hydrostatic in the vertical depth below the table, u = gamma_w z (docs/water.md),
+// every plane parallel to the face at depth z has
+//   F = (1 - gamma_w / (gamma_sat cos^2 beta)) tan(phi') / tan(beta) = 1.2176,
+// and Bishop's shallow circles along the face tend to it.
+TEST(BishopWater, InfiniteSlopeWithTheTableAtTheSurfaceWithinTwoPercent) {
+  const double beta = 20 * M_PI / 180, H = 20, run = H / std::tan(beta);
+  const std::vector<Eigen::Vector2d> ground = {{0, 0}, {run + 40, 0}, {run + 40, 5}, {run + 20, 5},
+                                               {20, 5 + H},  {0, 5 + H}};
+  const SlopeProfile profile = slope_profile(ground);
+  WaterSettings water;
+  water.table = {{0, 5 + H}, {20, 5 + H}, {run + 20, 5}, {run + 40, 5}};
+  const double gamma_sat = 2400 * 9.81, gamma_w = water.unit_weight;
+  const SoilStrength soil{0, 40, 20e3};
+  const WaterTableSoil wet(soil, gamma_sat, gamma_w, [&](double x) { return water.height(x); });
+  const auto critical = bishop_search(profile, wet);
+  ASSERT_TRUE(critical);
+  const double expected = (1 - gamma_w / (gamma_sat * std::cos(beta) * std::cos(beta))) * std::tan(40 * M_PI / 180) /
+                          std::tan(beta);
+  std::printf("infinite slope under water: Bishop F = %.4f, closed form %.4f\n", critical->factor_of_safety, expected);
+  EXPECT_NEAR(critical->factor_of_safety, expected, 0.02 * expected);
+  // The slice model: weight saturated below the table, u from the vertical depth below it.
+  const SliceForces f = wet.forces({30, 1, water.height(30), water.height(30) - 2});
+  EXPECT_NEAR(f.weight, 2 * gamma_sat, 1e-9);
+  EXPECT_NEAR(f.pore_pressure, 2 * gamma_w, 1e-9);
+  const SliceForces half = wet.forces({30, 1, water.height(30) + 1, water.height(30) - 2});
+  EXPECT_NEAR(half.weight, 20e3 + 2 * gamma_sat, 1e-9);
+  EXPECT_NEAR(half.pore_pressure, 2 * gamma_w, 1e-9);
+}
+
+}  // namespace
+}  // namespace talus::postproc

@@ -105,8 +105,8 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   if (material.model != MaterialModel::MohrCoulomb)
     throw Error(located(scene.path, "materials." + material.name, "fos needs a Mohr-Coulomb material"));
 
-  const std::optional<postproc::BishopResult> bishop = postproc::critical_circle(
-      slope, {material.cohesion, material.friction_angle, material.density * scene.run.gravity.norm()});
+  const std::optional<postproc::BishopResult> bishop =
+      postproc::critical_circle(slope, material, scene.run.gravity.norm(), model.water);
 
   solver::ReductionProblem problem;
   problem.model = &model;

@@ -89,6 +89,7 @@ std::string fos_json(const FosReport& r) {
     json.key("slip_circle").null();
   }
   postproc::write_bishop_keys(json, r.bishop);
+  postproc::write_water_keys(json, r.model.water);
   json.key("body_outline").value(postproc::outer_loop(r.model.bodies[r.body].loops));
   json.end_object();
   return json.text();

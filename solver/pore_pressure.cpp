@@ -1,0 +1,111 @@
+#include "solver/pore_pressure.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "solver/step.hpp"
+
+namespace talus::solver {
+
+double gravity_fraction(const Config& config, double t) {
+  if (t >= config.gravity_ramp) return 1;
+  return 0.5 * (1 - std::cos(M_PI * t / config.gravity_ramp));
+}
+
+void initial_pore_pressures(Particles& P, const Config& config, double t) {
+  if (!config.water.enabled()) return;
+  const std::size_t n = P.size();
+  P.pore_pressure.resize(n);
+  for (std::size_t p = 0; p < n; ++p) P.pore_pressure[p] = hydrostatic_pore_pressure(config, P.x[p], t);
+  if (config.water.mode == WaterMode::Undrained) P.excess_pore_pressure.assign(n, 0);
+}
+
+void prepare_materials(Config& config, const Model& model) {
+  // Element size for the regularisation: the mean of sqrt(2 A), the leg of a right isosceles
+  // triangle of the same area.
+  double size = 0;
+  for (double area : config.mesh.area) size += std::sqrt(2 * area);
+  size /= std::max<std::size_t>(config.mesh.area.size(), 1);
+  for (std::size_t i = 0; i < config.materials.size(); ++i) {
+    MaterialState& state = config.materials[i];
+    const Material& material = model.materials[i];
+    if (state.softening && material.softening_reference_size > 0 && size > 0) {
+      const double scale = material.softening_reference_size / size;
+      state.softening_start = material.softening_start * scale;
+      state.softening_end = material.softening_end * scale;
+    }
+    if (config.water.enabled() && config.water.mode == WaterMode::Undrained && material.porosity > 0) {
+      state.pore_stiffness = config.water.bulk_modulus / material.porosity;
+      // The undrained mixture is stiffer: its P-wave speed sets the time step.
+      state.wave_speed = std::sqrt((state.bulk_modulus + state.pore_stiffness + 4 * state.shear_modulus / 3) /
+                                   material.density);
+    }
+  }
+}
+
+namespace {
+
+// The table at one time, for the particle loop: its points and the rise, read without calls.
+struct TableNow {
+  const Eigen::Vector2d* points;
+  std::size_t count;
+  double rise, unit_weight, fraction;
+
+  // fraction x gamma_w x max(0, h(x) - y): WaterSettings::pore_pressure times the ramp.
+  double pore_pressure(const Vec2& x) const {
+    double h;
+    if (x.x() <= points[0].x()) {
+      h = points[0].y();
+    } else if (x.x() >= points[count - 1].x()) {
+      h = points[count - 1].y();
+    } else {
+      std::size_t k = 1;
+      while (points[k].x() < x.x()) ++k;
+      const Eigen::Vector2d& a = points[k - 1];
+      const Eigen::Vector2d& b = points[k];
+      h = a.y() + (b.y() - a.y()) * (x.x() - a.x()) / (b.x() - a.x());
+    }
+    const double depth = h + rise - x.y();
+    return depth > 0 ? fraction * unit_weight * depth : 0.0;
+  }
+};
+
+}  // namespace
+
+long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+                                const Config& config, double t, int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  const std::size_t history = static_cast<std::size_t>(P.history_width);
+  const bool undrained = config.water.mode == WaterMode::Undrained;
+  const WaterSettings& water = config.water;
+  const TableNow table{water.table.data(), water.table.size(), water.rise.empty() ? 0.0 : water.rise_at(t),
+                       water.unit_weight, gravity_fraction(config, t)};
+  long bad = -1;
+#pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
+  for (long p = 0; p < moving; ++p) {
+    const Vec4& d = d_eps[p];
+    double u = table.pore_pressure(P.x[p]);
+    if (isolated[p]) {
+      P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
+    } else {
+      const MaterialState& material = config.materials[config.material_of_body[P.body[p]]];
+      const double volumetric = d[0] + d[1] + d[2];
+      Vec4& sigma = P.sigma[p];  // total; effective in between (in place: a copy measured slower)
+      const double u_old = P.pore_pressure[p];
+      sigma[0] += u_old, sigma[1] += u_old, sigma[2] += u_old;
+      update_stress(material, sigma, d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+      if (undrained) {
+        P.excess_pore_pressure[p] -= material.pore_stiffness * volumetric;
+        u += P.excess_pore_pressure[p];
+      }
+      sigma[0] -= u, sigma[1] -= u, sigma[2] -= u;
+      P.volume[p] = std::min(P.volume[p] * (1 + volumetric), kMaxVolumeGrowth * config.initial_volume[P.id[p]]);
+    }
+    P.pore_pressure[p] = u;
+    if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum() + u) || !(P.volume[p] > 0))
+      bad = std::max(bad, p);
+  }
+  return bad;
+}
+
+}  // namespace talus::solver
