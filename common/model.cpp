@@ -168,6 +168,20 @@ void write_metadata(const h5::File& file, const Model& model) {
     for_each_material_parameter(m, [&](const char* name, const auto& value) { write_setting(file, group, name, value); });
   }
 
+  if (!model.loads.empty()) {
+    std::vector<std::string> load_names;
+    for (const auto& load : model.loads) load_names.push_back(load.name);
+    h5::write(file, "loads/names", load_names);
+    for (const auto& load : model.loads) {
+      const std::string group = "loads/" + load.name;
+      h5::create_group(file, group);
+      h5::set_attribute(file, group, "group", load.group);
+      if (load.pressure) h5::set_attribute(file, group, "pressure", *load.pressure);
+      if (load.traction) write_setting(file, group, "traction", *load.traction);
+      h5::set_attribute(file, group, "ramp", load.ramp);
+    }
+  }
+
   h5::create_group(file, "settings/run");
   for_each_run_setting(model.run,
                        [&](const char* name, const auto& value) { write_setting(file, "settings/run", name, value); });
@@ -237,6 +251,25 @@ void read_metadata(const h5::File& file, Model& model) {
   for (const auto& body : model.bodies)
     if (body.material < 0 || body.material >= static_cast<int>(model.materials.size()))
       throw Error(located(file.path(), "bodies/" + body.name + "@material", "material index out of range"));
+
+  model.loads.clear();
+  if (h5::exists(file, "loads/names"))
+    for (const auto& name : h5::read_strings(file, "loads/names")) {
+      const std::string group = "loads/" + name;
+      SurfaceLoad load;
+      load.name = name;
+      load.group = h5::get_string(file, group, "group");
+      if (h5::has_attribute(file, group, "pressure")) load.pressure = h5::get_double(file, group, "pressure");
+      if (h5::has_attribute(file, group, "traction")) {
+        Eigen::Vector2d traction;
+        read_setting(file, group, "traction", traction);
+        load.traction = traction;
+      }
+      load.ramp = h5::get_double(file, group, "ramp");
+      if (const std::string problem = load_problem(load); !problem.empty())
+        throw Error(located(file.path(), group, problem));
+      model.loads.push_back(load);
+    }
 
   RunSettings& run = model.run;
   // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0,
@@ -326,6 +359,11 @@ void write_model(const std::string& path, const Model& model) {
     h5::write(file, "particles/stress", flatten(model.stress), {n, 4});
     h5::write(file, "particles/body", model.body, {n});
     h5::write(file, "particles/element", model.element, {n});
+    if (!model.loads.empty()) {
+      h5::write(file, "particles/load", model.load, {n});
+      h5::write(file, "particles/load_length", model.load_length, {n});
+      h5::write(file, "particles/load_normal", flatten(model.load_normal), {n, 2});
+    }
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
   });
 }
@@ -416,6 +454,17 @@ Model read_model(const std::string& path) {
       throw Error(located(path, "particles/body", "body index out of range for particle " + std::to_string(p)));
     if (model.element[p] < 0 || model.element[p] >= static_cast<int32_t>(model.triangles.size()))
       throw Error(located(path, "particles/element", "element index out of range for particle " + std::to_string(p)));
+  }
+  if (!model.loads.empty()) {
+    model.load = h5::read_ints(file, "particles/load", &dims);
+    check_count(file, "particles/load", dims, n);
+    model.load_length = h5::read_doubles(file, "particles/load_length", &dims);
+    check_count(file, "particles/load_length", dims, n);
+    check_finite(file, "particles/load_length", model.load_length);
+    auto normals = h5::read_doubles(file, "particles/load_normal", &dims);
+    check_finite(file, "particles/load_normal", normals);
+    model.load_normal = unflatten<Eigen::Vector2d>(normals, dims, file, "particles/load_normal", n);
+    check_particle_loads(model, path);
   }
   check_particle_count(file, n);
   check_model_geometry(model, path);

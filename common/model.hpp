@@ -56,9 +56,17 @@ struct Model {
   std::vector<Eigen::Vector4d> stress;    // Pa, (xx, yy, zz, xy), tension positive
   std::vector<int32_t> body;              // index into bodies
   std::vector<int32_t> element;           // containing triangle
+  // Surface loads (all three empty when the scene has none): the index into `loads` of the
+  // load a particle carries (-1: none), the length of the loaded curve it stands for (m; the
+  // shares of a load sum to its curve's length), and the sum of its pieces' lengths times their
+  // outward unit normals in the initial configuration (m).
+  std::vector<int32_t> load;
+  std::vector<double> load_length;
+  std::vector<Eigen::Vector2d> load_normal;
 
   std::vector<BodyInfo> bodies;
   std::vector<Material> materials;
+  std::vector<SurfaceLoad> loads;
   RunSettings run;
   ContactSettings contact;
   PostSettings post;

@@ -32,6 +32,27 @@ std::string run_settings_problem(const RunSettings& run) {
   return "";
 }
 
+std::string load_problem(const SurfaceLoad& load) {
+  if (load.pressure.has_value() == load.traction.has_value()) return "expected either a pressure or a traction";
+  if (load.pressure && !std::isfinite(*load.pressure)) return "pressure: expected a finite number";
+  if (load.traction && !load.traction->allFinite()) return "traction: expected two finite numbers";
+  if (!(load.ramp >= 0) || !std::isfinite(load.ramp)) return "ramp: expected a finite time >= 0";
+  return "";
+}
+
+void check_particle_loads(const Model& model, const std::string& path) {
+  const int32_t loads = static_cast<int32_t>(model.loads.size());
+  for (std::size_t p = 0; p < model.load.size(); ++p) {
+    if (model.load[p] < -1 || model.load[p] >= loads)
+      throw Error(located(path, "particles/load", "load index out of range for particle " + std::to_string(p)));
+    const double length = model.load_length[p];
+    if (!(length >= 0) || model.load_normal[p].norm() > length * (1 + 1e-9) + 1e-300)
+      throw Error(located(path, "particles/load_length, particles/load_normal",
+                          "particle " + std::to_string(p) +
+                              " has a negative length or a normal sum longer than its length"));
+  }
+}
+
 void check_model_geometry(const Model& model, const std::string& path) {
   auto twice_area = [&](const std::array<int32_t, 3>& t) {
     const Eigen::Vector2d a = model.nodes[t[1]] - model.nodes[t[0]], b = model.nodes[t[2]] - model.nodes[t[0]];

@@ -18,6 +18,14 @@ constexpr double kMaxK0 = 10.0;
 // range.
 std::string run_settings_problem(const RunSettings& run);
 
+// What is wrong with a surface load read from a file (one of pressure and traction, finite
+// values, a finite ramp >= 0); empty when nothing is.
+std::string load_problem(const SurfaceLoad& load);
+
+// The particles' load datasets: load indices in [-1, loads), lengths >= 0, and normal sums no
+// longer than the lengths. Throws talus::Error naming `path` and the dataset.
+void check_particle_loads(const Model& model, const std::string& path);
+
 // Every triangle counter-clockwise with a positive area, every roller and friction normal non-zero, every
 // particle inside (or on the edge of) its element. Throws talus::Error naming `path` and the
 // dataset.

@@ -69,6 +69,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   read_materials(top, scene);
   read_bodies(top, scene);
   read_boundaries(top, scene);
+  read_loads(top, scene);
   read_contact(top, scene);
   read_post(top, scene);
   read_water(top, scene);

@@ -101,6 +101,17 @@ struct Boundary {
   double friction = 0;
 };
 
+// A surface load on a stretch of a body's outline, carried by the particles along it
+// (docs/scenes.md, [loads.NAME]). Exactly one of pressure and traction is given.
+struct SurfaceLoad {
+  std::string name;   // key of [loads.NAME]
+  std::string group;  // physical curve in the .geo on a body's outline (default: the load's name)
+  std::optional<double> pressure;           // Pa, along the inward normal (positive pushes in)
+  std::optional<Eigen::Vector2d> traction;  // Pa, a fixed vector
+  // The load rises as (1 - cos(pi t / T)) / 2 over the first T = ramp seconds (0: full from t = 0).
+  double ramp = 0;
+};
+
 struct ContactPair {
   std::string body_a, body_b;
   double friction = 0;
@@ -179,6 +190,7 @@ struct Scene {
   std::vector<Body> bodies;
   std::vector<Boundary> boundaries;
   WaterSettings water;
+  std::vector<SurfaceLoad> loads;
   std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
 
   int material_index(const std::string& name) const;  // -1 if absent

@@ -46,7 +46,7 @@ std::string nearest(const std::string& key, const std::vector<std::string>& cand
 }
 
 bool TableReader::has(const std::string& key) {
-  known_.push_back(key);
+  if (std::find(known_.begin(), known_.end(), key) == known_.end()) known_.push_back(key);
   return table_ && table_->contains(key);
 }
 

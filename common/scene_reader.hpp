@@ -90,6 +90,7 @@ void read_run(TableReader& top, Scene& scene);          // [run]
 void read_materials(TableReader& top, Scene& scene);    // [materials.NAME]
 void read_bodies(TableReader& top, Scene& scene);       // [bodies.NAME], after the materials
 void read_boundaries(TableReader& top, Scene& scene);   // [boundaries.NAME]
+void read_loads(TableReader& top, Scene& scene);       // [loads.NAME]
 void read_contact(TableReader& top, Scene& scene);      // [contact], [[contact.pairs]], after the bodies
 void read_post(TableReader& top, Scene& scene);         // [post], after the bodies
 void read_water(TableReader& top, Scene& scene);        // [water] (common/scene_water.cpp)

@@ -4,9 +4,11 @@
 //   3. each body's outline is chained into loops and checked against the domain (polygon.cpp);
 //   4. particles are seeded in every triangle and kept inside their body (seeding.cpp);
 //   5. boundary curves become fixed and roller nodes (boundary_conditions.cpp);
-//   6. materials and settings are copied from the scene.
+//   6. loaded curves are shared out among the particles along them (surface_loads.cpp);
+//   7. materials and settings are copied from the scene.
 #include "preproc/preproc.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -20,6 +22,7 @@
 #include "preproc/gmsh_geometry.hpp"
 #include "preproc/polygon.hpp"
 #include "preproc/seeding.hpp"
+#include "preproc/surface_loads.hpp"
 
 namespace talus::preproc {
 namespace {
@@ -50,16 +53,27 @@ const PhysicalGroup& domain_group(const GeoMesh& geo, const Scene& scene) {
   return *group;
 }
 
-// Outline segments of a body: the combined boundary of a physical surface, or the curves of a
-// closed physical curve (a surface wins when the .geo has both under one name).
-std::vector<Segment> body_outline(const GeoMesh& geo, const Body& body, const Scene& scene,
-                                  const PhysicalGroup** found) {
+// The physical group of a body: a physical surface, or a closed physical curve (a surface wins
+// when the .geo has both under one name).
+const PhysicalGroup& body_group(const GeoMesh& geo, const Body& body, const Scene& scene) {
   const PhysicalGroup* group = geo.find(body.group, 2);
   if (!group) group = geo.find(body.group, 1);
   if (!group) missing_group(geo, body.group, "physical surface or closed curve", "bodies." + body.name, scene);
+  return *group;
+}
+
+// The curves of a body's outline: the combined boundary of its surface, or its closed curve's.
+const std::vector<int>& outline_curves(const PhysicalGroup& group) {
+  return group.dim == 2 ? group.boundary_curves : group.entities;
+}
+
+// Outline segments of a body.
+std::vector<Segment> body_outline(const GeoMesh& geo, const Body& body, const Scene& scene,
+                                  const PhysicalGroup** found) {
+  const PhysicalGroup* group = &body_group(geo, body, scene);
   *found = group;
   std::vector<Segment> segments;
-  for (int curve : group->dim == 2 ? group->boundary_curves : group->entities) {
+  for (int curve : outline_curves(*group)) {
     const auto& curve_segments = geo.curve_segments.at(curve);
     segments.insert(segments.end(), curve_segments.begin(), curve_segments.end());
   }
@@ -136,6 +150,49 @@ std::vector<BoundaryCurve> boundary_curves(const GeoMesh& geo, const BackgroundM
       throw Error(located(geo.path, "physical curve \"" + boundary.group + "\"",
                           "named by boundaries." + boundary.name + " in " + scene.path +
                               ", has no edge on the background mesh (is it outside the domain?)"));
+    curves.push_back(std::move(curve));
+  }
+  return curves;
+}
+
+// Each load's physical curve as segments, each on the outline of the one body that holds its
+// curve (a load may run along several bodies, never between two or along a fixed one).
+std::vector<LoadCurve> load_curves(const GeoMesh& geo, const Scene& scene) {
+  std::vector<std::vector<int>> outlines;
+  for (const auto& body : scene.bodies) outlines.push_back(outline_curves(body_group(geo, body, scene)));
+  std::vector<LoadCurve> curves;
+  for (const auto& load : scene.loads) {
+    const std::string item = "loads." + load.name;
+    const PhysicalGroup* group = geo.find(load.group, 1);
+    if (!group && geo.find(load.group, 2))
+      throw Error(located(geo.path, "physical surface \"" + load.group + "\"",
+                          "named by " + item + " in " + scene.path + ", is a surface; a load needs a physical curve"));
+    if (!group) missing_group(geo, load.group, "physical curve", item, scene);
+    const std::string where = "physical curve \"" + load.group + "\" of " + scene.geometry;
+    LoadCurve curve;
+    curve.name = load.name;
+    for (int entity : group->entities) {
+      std::vector<int32_t> holders;
+      for (std::size_t b = 0; b < outlines.size(); ++b)
+        if (std::find(outlines[b].begin(), outlines[b].end(), entity) != outlines[b].end())
+          holders.push_back(static_cast<int32_t>(b));
+      if (holders.empty())
+        throw Error(located(scene.path, item,
+                            where + " is not on any body's outline (its curve " + std::to_string(entity) +
+                                " bounds no body): a load acts on a body's edge"));
+      if (holders.size() > 1)
+        throw Error(located(scene.path, item,
+                            where + " lies between bodies '" + scene.bodies[holders[0]].name + "' and '" +
+                                scene.bodies[holders[1]].name + "': a load acts on a body's free edge"));
+      if (scene.bodies[holders[0]].fixed)
+        throw Error(located(scene.path, item,
+                            where + " is on the outline of body '" + scene.bodies[holders[0]].name +
+                                "', which is fixed: a load on a body that never moves does nothing"));
+      for (const auto& [a, b] : geo.curve_segments.at(entity))
+        curve.segments.push_back({geo.node_position[a], geo.node_position[b], holders[0]});
+    }
+    if (curve.segments.empty())
+      throw Error(located(scene.path, item, where + " has no segments"));
     curves.push_back(std::move(curve));
   }
   return curves;
@@ -298,7 +355,11 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.friction_normals = constraints.friction_normals;
   model.friction_coefficients = constraints.friction_coefficients;
 
-  // 6. Settings.
+  // 6. Surface loads.
+  model.loads = scene.loads;
+  if (!scene.loads.empty()) distribute_loads(load_curves(geo, scene), regions, model, scene.path);
+
+  // 7. Settings.
   model.run = scene.run;
   model.contact = scene.contact;
   model.post = scene.post;
@@ -319,6 +380,12 @@ Model build_model(const Scene& scene, MeshReport* report) {
       BodyReport body{scene.bodies[b].name, count[b], seeded_volume[b], regions[b].area(), 0};
       body.relative_difference = (body.particle_volume - body.polygon_area) / body.polygon_area;
       report->bodies.push_back(body);
+    }
+    for (std::size_t L = 0; L < model.loads.size(); ++L) {
+      LoadReport load{model.loads[L].name, 0, 0};
+      for (std::size_t p = 0; p < n; ++p)
+        if (model.load[p] == static_cast<int32_t>(L)) ++load.particles, load.length += model.load_length[p];
+      report->loads.push_back(load);
     }
     report->gmsh_seconds = seconds_between(start, meshed);
     report->seeding_seconds = seconds_between(meshed, done);
@@ -344,6 +411,9 @@ void print_report(const MeshReport& report, std::ostream& out) {
         << std::setprecision(1) << 100 * body.relative_difference << std::noshowpos << " %)\n";
     out.flags(flags);
   }
+  for (const auto& load : report.loads)
+    out << "  load " << load.name << ": carried by " << load.particles << " particles along " << std::setprecision(6)
+        << load.length << " m\n";
   out << "  particles: " << report.particles << "\n";
   out << std::fixed << std::setprecision(3) << "  time: gmsh " << report.gmsh_seconds << " s, seeding "
       << report.seeding_seconds << " s, total " << report.seconds << " s\n";

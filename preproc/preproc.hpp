@@ -21,6 +21,12 @@ struct BodyReport {
   double relative_difference = 0;  // (particle_volume - polygon_area) / polygon_area
 };
 
+struct LoadReport {
+  std::string name;
+  std::size_t particles = 0;  // particles that carry it
+  double length = 0;          // the loaded length, m (the sum of their shares)
+};
+
 struct MeshReport {
   std::string scene;
   std::string geometry;  // the .geo that was meshed
@@ -31,6 +37,7 @@ struct MeshReport {
   std::size_t roller_nodes = 0;
   std::size_t friction_nodes = 0;
   std::vector<BodyReport> bodies;
+  std::vector<LoadReport> loads;
   double gmsh_seconds = 0;     // reading the .geo and meshing
   double seeding_seconds = 0;  // everything after gmsh: topology, seeding, boundary conditions
   double seconds = 0;          // total

@@ -66,6 +66,16 @@ std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& mod
   contact.add(model.contact.enabled).add(model.contact.friction);
   for (const auto& pair : model.contact.pairs) add_name(add_name(contact, pair.body_a), pair.body_b).add(pair.friction);
   sections.emplace_back("contact", stored(contact));
+  if (!model.loads.empty()) {  // absent without loads, so older checkpoints still match
+    Fingerprint loads;
+    for (const auto& load : model.loads) {
+      add_name(add_name(loads, load.name), load.group).add(load.pressure.has_value()).add(load.pressure.value_or(0));
+      add_setting(loads, load.traction.value_or(Eigen::Vector2d::Zero()));
+      loads.add(load.ramp);
+    }
+    loads.add(model.load).add(model.load_length).add(model.load_normal);
+    sections.emplace_back("loads", stored(loads));
+  }
   Fingerprint run;
   for_each_run_setting(model.run, [&](const char*, const auto& value) { add_setting(run, value); });
   sections.emplace_back("run settings", stored(run));
@@ -168,6 +178,9 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
         P.id[p] >= static_cast<int32_t>(n) || seen[P.id[p]])
       throw Error(located(path, "particles", "particle " + std::to_string(p) + " has an index out of range"));
     seen[P.id[p]] = true;
+    if (!P.load.empty() && (P.load[p] < -1 || P.load[p] >= static_cast<int32_t>(sim.config.load_ramp.size()) ||
+                            !P.load_force[p].allFinite()))
+      throw Error(located(path, "particles/load", "particle " + std::to_string(p) + " has a bad surface load"));
     if (fixed[P.body[p]] != (p >= P.moving_count))
       throw Error(located(path, "moving_count", "particles of fixed bodies must come after all the others"));
   }

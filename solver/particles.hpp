@@ -34,7 +34,9 @@ enum FieldRole : unsigned {
   FIELD(Vec4, C, "", "1/s", kCheckpointed)                                       \
   FIELD(int32_t, body, "", "-", kCheckpointed)                                   \
   FIELD(int32_t, element, "", "-", kCheckpointed)                                \
-  FIELD(int32_t, id, "", "-", kCheckpointed)
+  FIELD(int32_t, id, "", "-", kCheckpointed)                                     \
+  FIELD(int32_t, load, "", "-", kCheckpointed)                                   \
+  FIELD(Vec2, load_force, "", "N/m", kCheckpointed)
 
 // Declaration of one field as the visitors see it.
 struct FieldInfo {
@@ -47,10 +49,11 @@ struct FieldInfo {
 // x position (m), v velocity (m/s), m mass (kg/m), volume (m^2 per m thickness), sigma Cauchy
 // stress (Pa), eps_p equivalent plastic shear strain, C APIC's affine velocity matrix
 // C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), body and element
-// indices, id the index in the model's (and the results') order. With a water table,
-// pore_pressure u (Pa, positive in compression) and, undrained, its excess over the hydrostatic
-// part; sigma is then the TOTAL stress and the effective stress is sigma + u (1, 1, 1, 0)
-// (docs/water.md). Both are empty without water. Particles of fixed bodies are kept after all the
+// indices, id the index in the model's (and the results') order, load the surface load the
+// particle carries (-1: none) and load_force its force at full load (both empty without loads).
+// With a water table, pore_pressure u (Pa, positive in compression) and, undrained, its excess
+// over the hydrostatic part; sigma is then the TOTAL stress and the effective stress is
+// sigma + u (1, 1, 1, 0) (docs/water.md). Both are empty without water. Particles of fixed bodies are kept after all the
 // others (indices [moving_count, size)), so the update loops run over [0, moving_count) only.
 struct Particles {
 #define TALUS_DECLARE_FIELD(type, member, results_name, unit, roles) std::vector<type> member;

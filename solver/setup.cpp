@@ -37,6 +37,16 @@ Particles particles_of(const Model& model, const Config& config) {
   P.element = model.element;
   P.id.resize(n);
   std::iota(P.id.begin(), P.id.end(), 0);
+  if (!model.loads.empty()) {  // the force at full load: pressure along the inward normal, or traction x length
+    P.load = model.load;
+    P.load_force.resize(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      const int32_t L = P.load[p];
+      P.load_force[p] = L < 0                          ? Vec2::Zero()
+                        : model.loads[L].pressure      ? Vec2(-*model.loads[L].pressure * model.load_normal[p])
+                                                       : Vec2(model.load_length[p] * *model.loads[L].traction);
+    }
+  }
   for (std::size_t p = 0; p < n; ++p) {
     const int32_t e = locate(config.mesh, P.element[p], P.x[p]);
     if (e < 0)
@@ -77,6 +87,7 @@ Simulation make_simulation(const Model& model, int threads) {
   config.xpic_order = config.transfer == Transfer::Xpic ? model.run.xpic_order : 1;
   config.evs = model.run.evs;
   config.initial_volume = model.volume;
+  for (const auto& load : model.loads) config.load_ramp.push_back(load.ramp);
   for (const auto& material : model.materials) config.materials.push_back(make_material(material));
   config.water = model.water;
   prepare_materials(config, model);

@@ -35,6 +35,9 @@ struct Config {
   bool evs = false;          // enhanced volumetric strain
   std::vector<double> initial_volume;  // m^2, by particle id: the cap on its growth (step.hpp)
   WaterSettings water;       // the water table (water.enabled(): pore pressures, pore_pressure.cpp)
+  // Surface loads: per load, the time over which it rises (s, as gravity_ramp). The particles
+  // carry the forces (Particles::load, load_force).
+  std::vector<double> load_ramp;
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
 };
@@ -60,6 +63,7 @@ struct Scratch {
   std::vector<uint8_t> isolated;     // per particle: alone in its element (isolated.cpp)
   EvsScratch evs;
   std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
+  std::vector<double> load_factor;     // this step's ramp factor per surface load
   // Problems found inside parallel loops, reported after them (-1: none).
   long bad_particle = -1;   // first particle with a non-finite state
   long lost_particle = -1;  // first particle that left the domain
@@ -86,8 +90,12 @@ void set_threads(Simulation& sim, int threads);
 // stencil rows in the new order.
 void sort_particles(Simulation& sim);
 
+// The smooth ramp (1 - cos(pi t / T)) / 2 up to T, then 1 (T = 0: 1 from t = 0).
+double ramp_factor(double t, double T);
 // Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp.
 Vec2 gravity_at(const Config& config, double t);
+// Each surface load's ramp factor at time t, into `factors` (one per load).
+void load_factors(const Config& config, double t, std::vector<double>& factors);
 
 // The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
 double stable_time_step(const Simulation& sim, double cfl);

@@ -18,7 +18,8 @@ bool step(Simulation& sim, double dt) {
   const ContactRules contact{c.pair_friction, c.body_fixed, c.constraints};
 
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.grids, s.buffers, threads);
+  load_factors(c, sim.time, s.load_factor);
+  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
@@ -70,11 +71,12 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
 }
 
 void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
-                       Grids& grids, ThreadBuffers& buffers, int threads) {
+                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads) {
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
   const bool gradients = grids.per_body;
   const bool affine = !P.C.empty();  // APIC
+  const bool loaded = !P.load.empty();  // surface loads
   with_width(S, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
@@ -96,6 +98,8 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
       const Vec2 mv = m * P.v[p];
       const Vec4& s = P.sigma[p];
       const double V = P.volume[p];
+      // A surface load's force on the particle, spread over its nodes like its weight (A.7).
+      const Vec2 f_load = loaded && P.load[p] >= 0 ? Vec2(load_factor[P.load[p]] * P.load_force[p]) : Vec2::Zero();
       for (int k = 0; k < W; ++k) {
         const Vec2& dN_k = dN[k];
         const int32_t i = nodes[k];
@@ -108,6 +112,7 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
         }
         b.f[i] += N[k] * m * g                                 // (A.7)
                   - V * Vec2(s[0] * dN_k.x() + s[3] * dN_k.y(), s[3] * dN_k.x() + s[1] * dN_k.y());  // (A.8)
+        if (loaded) b.f[i] += N[k] * f_load;
         if (gradients) b.mass_gradient[i] += m * dN_k;
       }
     }

@@ -21,9 +21,10 @@ void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vecto
 // (A.6)-(A.8): mass, momentum and force of each velocity field at the active nodes; with
 // contact also the mass gradients. Particles of fixed bodies lend their mass (and normals) only.
 // With APIC the momentum carries each particle's affine part, m_p C_p (x_i - x_p), for which
-// it needs the node positions x_i.
+// it needs the node positions x_i. A particle that carries a surface load adds
+// load_factor[load] x its load_force, spread like its weight (empty factors: no loads).
 void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& gravity,
-                       Grids& grids, ThreadBuffers& buffers, int threads);
+                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
 // satisfies the constraints. A fixed body's field does not move.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Geometry>
 #include <sstream>
 
 #include "solver/step.hpp"
@@ -55,6 +56,12 @@ double energy_budget(const Simulation& sim, const Energies& start) {
   double release = 0;
   const Particles& P = sim.particles;
   for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * g.norm() * (-down.dot(P.x[p]) - lowest);
+  // Surface loads: at most their full force over the width of the mesh each.
+  if (!P.load.empty()) {
+    Eigen::AlignedBox<double, 2> box;
+    for (const auto& x : sim.config.mesh.nodes) box.extend(x);
+    for (std::size_t p = 0; p < P.moving_count; ++p) release += P.load_force[p].norm() * box.diagonal().norm();
+  }
   return start.kinetic + start.strain + release;
 }
 

@@ -76,6 +76,26 @@ std::string model_row(const fs::path& dir, const std::function<void(const std::s
   return command + " " + path;
 }
 
+// The small model with a pressure on its top edge, carried by particle 0.
+std::string loaded_model_row(const fs::path& dir, const std::function<void(const std::string&)>& change) {
+  const std::string path = (dir / "model.h5").string();
+  Model model = small_model();
+  SurfaceLoad load;
+  load.name = "push";
+  load.group = "top";
+  load.pressure = 1000.0;
+  model.loads = {load};
+  model.load.assign(model.particle_count(), -1);
+  model.load_length.assign(model.particle_count(), 0);
+  model.load_normal.assign(model.particle_count(), Eigen::Vector2d::Zero());
+  model.load[0] = 0;
+  model.load_length[0] = 0.5;
+  model.load_normal[0] = {0, 0.5};
+  write_model(path, model);
+  change(path);
+  return "solve " + path;
+}
+
 // results.h5 of a valid run, to hand to `talus post` after a change.
 std::string results_row(const fs::path& dir, const std::function<void(const std::string&)>& change) {
   const std::string model = (dir / "model.h5").string();
@@ -220,6 +240,26 @@ std::vector<Row> rows() {
        {"materials.rock.model", "plasticine", "linear_elastic or mohr_coulomb"}},
       {"body named like a reserved dataset", [](auto d) { return scene_change(d, "[bodies.block]", "[bodies.names]\ngroup = \"block\""); },
        {"bodies.names", "not 'names'"}},
+      {"load on a curve off every body's outline",
+       [](auto d) { return scene_change(d, "[contact]", "[loads.push]\ngroup = \"speck\"\npressure = 1000.0\n\n[contact]"); },
+       {"block.toml", "loads.push", "speck", "not on any body's outline"}},
+      {"load with both pressure and traction",
+       [](auto d) {
+         return scene_change(d, "[contact]", "[loads.push]\ngroup = \"base\"\npressure = 1.0\ntraction = [1.0, 0.0]\n\n[contact]");
+       },
+       {"block.toml", "loads.push.traction", "either pressure", "not both"}},
+      {"load with neither pressure nor traction",
+       [](auto d) { return scene_change(d, "[contact]", "[loads.push]\ngroup = \"base\"\n\n[contact]"); },
+       {"block.toml", "loads.push.pressure", "missing"}},
+      {"NaN load pressure",
+       [](auto d) { return scene_change(d, "[contact]", "[loads.push]\ngroup = \"base\"\npressure = nan\n\n[contact]"); },
+       {"block.toml", "loads.push.pressure", "got nan", "finite"}},
+      {"NaN in a load traction",
+       [](auto d) { return scene_change(d, "[contact]", "[loads.push]\ngroup = \"base\"\ntraction = [nan, 0.0]\n\n[contact]"); },
+       {"block.toml", "loads.push.traction", "finite"}},
+      {"load on a surface",
+       [](auto d) { return scene_change(d, "[contact]", "[loads.push]\ngroup = \"block\"\npressure = 1.0\n\n[contact]"); },
+       {"block.geo", "block", "loads.push", "a load needs a physical curve"}},
       {"bad TOML syntax", [](auto d) { return scene_change(d, "[run]", "[run"); },
        {"block.toml", "not valid TOML", "line 7"}},
       {"--set with an empty key part", [](auto d) { return scene_row(d, kScene, "--set run.=2"); },
@@ -266,6 +306,19 @@ std::vector<Row> rows() {
          });
        },
        {"model.h5", "not a Talus talus-model file"}},
+      {"load index out of range in a model",
+       [](auto d) { return loaded_model_row(d, [](auto p) { set_int(p, "particles/load", 3, 7); }); },
+       {"model.h5", "particles/load", "load index out of range for particle 3"}},
+      {"negative load length in a model",
+       [](auto d) { return loaded_model_row(d, [](auto p) { set_double(p, "particles/load_length", 0, -1.0); }); },
+       {"model.h5", "particles/load_length", "particle 0"}},
+      {"model load with a NaN pressure",
+       [](auto d) {
+         return loaded_model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::set_attribute(f, "loads/push", "pressure", std::nan("")); });
+         });
+       },
+       {"model.h5", "loads/push", "pressure: expected a finite number"}},
       {"older format version",
        [](auto d) {
          return model_row(d, [](auto p) {

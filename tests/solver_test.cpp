@@ -41,7 +41,7 @@ void map_to_grid(Simulation& sim) {
   Scratch& s = sim.scratch;
   const int threads = sim.config.threads;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), s.grids, s.buffers,
+  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), {}, s.grids, s.buffers,
                     threads);
 }
 
