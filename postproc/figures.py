@@ -73,6 +73,16 @@ def water_tables(results):
     return tables
 
 
+def scene_axes(ax, lo, hi):
+    """Equal-aspect axes in metres over the box [lo, hi], padded by 5 % of its larger side."""
+    pad = 0.05 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+
+
 def draw_water(ax, tables, lo, hi):
     for k, (label, xy) in enumerate(tables):
         # Held level beyond its ends, as the solver reads it.
@@ -97,12 +107,7 @@ def pore_pressure(results, metrics, out, written):
                  label="pore pressure (kPa, compression positive)")
     lo, hi = x1.min(axis=0), x1.max(axis=0)
     draw_water(ax, water_tables(results)[-1:], lo, hi)
-    pad = 0.05 * (hi - lo).max()
-    ax.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax.set_ylim(lo[1] - pad, hi[1] + pad)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    scene_axes(ax, lo, hi)
     ax.set_title("%s: pore pressure at t = %.2f s" % (metrics.get("scene", ""), time))
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=8, frameon=False)
     save(fig, out, "pore_pressure.png", written)
@@ -152,13 +157,8 @@ def deformed(results, metrics, out, written):
     # The view is the material, not the circles (whose centres lie far above the slope).
     everything = np.vstack([x1] + outlines)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
-    pad = 0.05 * (hi - lo).max()
     draw_water(ax, water_tables(results), lo, hi)
-    ax.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax.set_ylim(lo[1] - pad, hi[1] + pad)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    scene_axes(ax, lo, hi)
     ax.set_title("%s: total displacement at t = %.2f s" % (metrics.get("scene", ""), time))
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, fontsize=8, frameon=False)
     save(fig, out, "deformed.png", written)

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <regex>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -45,19 +44,8 @@ solver::SearchResult search(MockSlope& slope, SearchSettings settings) {
   return solver::search_factor_of_safety([&](const std::vector<double>& f) { return slope(f); }, settings);
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The number after "key": in a JSON text (NaN when absent or null).
-double json_number(const std::string& text, const std::string& key) {
-  std::smatch match;
-  if (!std::regex_search(text, match, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return std::nan("");
-  return std::stod(match[1]);
-}
+using talus::testing::json_number;
+using talus::testing::read_text;
 
 }  // namespace
 

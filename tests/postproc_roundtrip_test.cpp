@@ -15,7 +15,6 @@
 #include "postproc/results.hpp"
 #include "support/test_support.hpp"
 #include "postproc/runout.hpp"
-#include "support/test_support.hpp"
 
 namespace talus::postproc {
 namespace {
@@ -92,12 +91,7 @@ Results rotational_slide(bool mirrored) {
   return r;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::read_text;
 
 // The number after "key": (searching from `after`, the position of an enclosing key).
 double number(const std::string& json, const std::string& key, const std::string& after = "") {

@@ -205,7 +205,10 @@ double json_number(const std::string& json, const std::string& key) {
   const std::string tag = "\"" + key + "\":";
   const std::size_t at = json.find(tag);
   if (at == std::string::npos) return std::nan("");
-  return std::strtod(json.c_str() + at + tag.size(), nullptr);
+  const char* value = json.c_str() + at + tag.size();
+  char* end = nullptr;
+  const double parsed = std::strtod(value, &end);
+  return end == value ? std::nan("") : parsed;  // null, or not a number
 }
 
 void set_run(Model& model, double end_time, Eigen::Vector2d gravity) {

@@ -29,7 +29,8 @@ struct CommandResult {
 
 // A file's whole text ("" when it cannot be read).
 std::string read_text(const std::string& path);
-// The number after "key": in a JSON text (the first occurrence); NaN when the key is missing.
+// The number after "key": in a JSON text (the first occurrence); NaN when the key is missing
+// or its value is not a number (null).
 double json_number(const std::string& json, const std::string& key);
 
 // Runs `build/bin/talus ARGS` through the shell, capturing its output.
