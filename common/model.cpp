@@ -191,13 +191,16 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::set_attribute(file, "settings/contact", "friction", model.contact.friction);
   std::vector<std::string> pair_names;
   std::vector<double> pair_friction;
+  std::vector<int32_t> pair_bonded;
   for (const auto& pair : model.contact.pairs) {
     pair_names.push_back(pair.body_a);
     pair_names.push_back(pair.body_b);
     pair_friction.push_back(pair.friction);
+    pair_bonded.push_back(pair.bonded);
   }
   h5::write(file, "settings/contact/pair_bodies", pair_names);
   h5::write(file, "settings/contact/pair_friction", pair_friction, {pair_friction.size()});
+  h5::write(file, "settings/contact/pair_bonded", pair_bonded, {pair_bonded.size()});
 
   write_water(file, model.water);
 
@@ -294,11 +297,25 @@ void read_metadata(const h5::File& file, Model& model) {
   const auto pair_friction = h5::read_doubles(file, "settings/contact/pair_friction");
   if (pair_names.size() != 2 * pair_friction.size())
     throw Error(located(file.path(), "settings/contact", "pair_bodies and pair_friction disagree"));
+  // Files written before bonded pairs had no pair_bonded: no pair was bonded.
+  std::vector<int32_t> pair_bonded(pair_friction.size(), 0);
+  if (h5::exists(file, "settings/contact/pair_bonded")) pair_bonded = h5::read_ints(file, "settings/contact/pair_bonded");
+  if (pair_bonded.size() != pair_friction.size())
+    throw Error(located(file.path(), "settings/contact", "pair_bonded and pair_friction disagree"));
   model.contact.pairs.clear();
   for (std::size_t i = 0; i < pair_friction.size(); ++i) {
     if (!(pair_friction[i] >= 0) || !std::isfinite(pair_friction[i]))
       throw Error(located(file.path(), "settings/contact/pair_friction", "expected finite numbers >= 0"));
-    model.contact.pairs.push_back({pair_names[2 * i], pair_names[2 * i + 1], pair_friction[i]});
+    if (pair_bonded[i] != 0 && pair_bonded[i] != 1)
+      throw Error(located(file.path(), "settings/contact/pair_bonded", "expected 0 or 1"));
+    model.contact.pairs.push_back({pair_names[2 * i], pair_names[2 * i + 1], pair_friction[i], pair_bonded[i] == 1});
+  }
+  {
+    std::vector<std::string> names;
+    std::vector<uint8_t> fixed;
+    for (const auto& body : model.bodies) names.push_back(body.name), fixed.push_back(body.fixed);
+    if (const std::string problem = contact_groups(model.contact, names, fixed).problem; !problem.empty())
+      throw Error(located(file.path(), "settings/contact", problem));
   }
 
   model.water = read_water(file);

@@ -4,6 +4,7 @@
 // The format is documented in docs/scenes.md.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -114,16 +115,37 @@ struct SurfaceLoad {
 
 struct ContactPair {
   std::string body_a, body_b;
-  double friction = 0;
+  double friction = 0;  // Coulomb coefficient; 0 and unused for a bonded pair
+  bool bonded = false;  // the two bodies share one velocity field: no sliding, no separation
 };
 
 struct ContactSettings {
   // false: bodies share one velocity field (bonded, as the spring and the mass); true: the
-  // frictional contact pass runs between bodies that meet at a node.
+  // frictional contact pass runs between bodies that meet at a node, except bonded pairs.
   bool enabled = true;
   double friction = 0;             // Coulomb coefficient for every pair not listed below
-  std::vector<ContactPair> pairs;  // per-pair coefficients
+  std::vector<ContactPair> pairs;  // per-pair coefficients, or bonded
 };
+
+// The bodies' velocity fields under contact (docs/contact.md, "Bonded pairs"): bodies joined
+// by bonded pairs, directly or through others, form one group that shares one grid velocity
+// field, and contact acts between the groups. Groups are numbered in the order of their first
+// body, so without bonded pairs group b is body b.
+struct ContactGroups {
+  std::vector<int32_t> of_body;                 // [body] -> group
+  std::vector<uint8_t> fixed;                   // [group]: all its bodies are fixed
+  std::vector<std::vector<double>> friction;    // [group][group], Coulomb coefficient
+  std::string problem;                          // empty when the pairs are sound
+  std::size_t count() const { return fixed.size(); }
+};
+// Groups the bodies (names and fixed flags in body order) by the bonded pairs. `problem` names
+// the first mistake: a bonded pair naming an unknown body or one body twice, a bonded pair
+// listed twice, and with contact enabled a group that bonds a fixed body to a moving one, or
+// two pairs between the same two groups with different coefficients (a group's field has one
+// coefficient against each other group). Friction pairs naming no body pair are ignored (the
+// scene reader refuses them).
+ContactGroups contact_groups(const ContactSettings& contact, const std::vector<std::string>& names,
+                             const std::vector<uint8_t>& fixed);
 
 struct MeshSettings {
   std::optional<double> size;    // m; characteristic element size, overrides the .geo

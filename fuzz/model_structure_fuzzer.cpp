@@ -91,7 +91,7 @@ const std::vector<std::string> kDoubleDatasets = {
     "settings/contact/pair_friction"};
 const std::vector<std::string> kIntDatasets = {
     "mesh/triangles", "mesh/neighbours", "mesh/node_sets/base", "boundary_conditions/fixed_nodes",
-    "boundary_conditions/roller_nodes", "particles/body", "particles/element"};
+    "boundary_conditions/roller_nodes", "particles/body", "particles/element", "settings/contact/pair_bonded"};
 const std::vector<std::string> kStringDatasets = {"bodies/names", "materials/names", "settings/contact/pair_bodies",
                                                   "settings/post/metrics"};
 const std::vector<std::string> kGroups = {"mesh", "mesh/node_sets", "bodies", "bodies/block", "materials",

@@ -64,7 +64,10 @@ std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& mod
   }
   Fingerprint contact;
   contact.add(model.contact.enabled).add(model.contact.friction);
-  for (const auto& pair : model.contact.pairs) add_name(add_name(contact, pair.body_a), pair.body_b).add(pair.friction);
+  for (const auto& pair : model.contact.pairs) {
+    add_name(add_name(contact, pair.body_a), pair.body_b).add(pair.friction);
+    if (pair.bonded) contact.add("bonded");  // only then, so older checkpoints still match
+  }
   sections.emplace_back("contact", stored(contact));
   if (!model.loads.empty()) {  // absent without loads, so older checkpoints still match
     Fingerprint loads;

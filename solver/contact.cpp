@@ -2,6 +2,10 @@
 // for granular materials", CMAME 187, as summarised in the seed's appendix B and design.md,
 // with contact detected from the particles' surfaces rather than from shared nodes alone
 // (docs/contact.md).
+//
+// A "body" below is a velocity field: one body, or a group of bodies bonded by
+// [[contact.pairs]] bonded = true that share one field (Grids::field_index, docs/contact.md
+// "Bonded pairs"). Contact acts between fields; inside a group nothing slides or separates.
 #include <omp.h>
 
 #include <algorithm>
@@ -28,14 +32,14 @@ void outward_normals(const ContactRules& rules, const Grids& grids, int32_t i, V
   for (std::size_t b = 0; b < bodies; ++b) {
     const Grid& grid = grids.fields[b];
     if (grid.m[i] <= 0) continue;
-    rigid = rigid || rules.body_fixed[b];
-    if (rules.body_fixed[b]) rigid_gradient += grid.mass_gradient[i];
+    rigid = rigid || rules.field_fixed[b];
+    if (rules.field_fixed[b]) rigid_gradient += grid.mass_gradient[i];
     gradient_sum += grid.mass_gradient[i];
   }
   for (std::size_t b = 0; b < bodies; ++b) {
     const Grid& grid = grids.fields[b];
     normal[b].setZero();
-    if (grid.m[i] <= 0 || rules.body_fixed[b]) continue;
+    if (grid.m[i] <= 0 || rules.field_fixed[b]) continue;
     const Vec2 n = rigid ? Vec2(-rigid_gradient) : Vec2(grid.mass_gradient[i] - (gradient_sum - grid.mass_gradient[i]));
     const double length = n.norm();
     if (length > 0) normal[b] = n / length;
@@ -57,7 +61,7 @@ void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, 
   Vec2 momentum = Vec2::Zero();
   for (std::size_t b = 0; b < bodies; ++b) {
     if (!touching[b]) continue;
-    if (rules.body_fixed[b]) {
+    if (rules.field_fixed[b]) {
       rigid = true;
       continue;
     }
@@ -68,7 +72,7 @@ void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, 
   const Vec2 reference = rigid ? Vec2::Zero() : Vec2(momentum / m);
 
   for (std::size_t b = 0; b < bodies; ++b) {
-    if (!touching[b] || rules.body_fixed[b]) continue;
+    if (!touching[b] || rules.field_fixed[b]) continue;
     const Vec2 dv = velocity(b) - reference;
     const double approach = dv.dot(normal[b]);
     if (approach <= 0) continue;  // separating: free
@@ -139,7 +143,7 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
     };
     auto extend = [&](std::size_t p, std::vector<double>& extent) {
       const int32_t* nodes = S.nodes(p);
-      const std::size_t c = static_cast<std::size_t>(P.body[p]);
+      const std::size_t c = static_cast<std::size_t>(grids.field_of(P.body[p]));
       const double reach = 0.5 * std::sqrt(P.volume[p]);
       for (int j = 0; j < W; ++j) {
         const int32_t k = slot[nodes[j]];

@@ -1,6 +1,7 @@
-// Node fields. Without contact one velocity field serves every body; with contact each body
-// has its own (Bardenhagen et al. 2000) and nothing else: the centre of mass is formed where
-// contact needs it. Fields are reset each step only where active.
+// Node fields. Without contact one velocity field serves every body; with contact each group
+// of bonded bodies (each body, without bonded pairs) has its own (Bardenhagen et al. 2000) and
+// nothing else: the centre of mass is formed where contact needs it. Fields are reset each
+// step only where active.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -21,12 +22,15 @@ struct Grid {
 
 struct Grids {
   std::vector<int32_t> active;  // nodes touched by a particle's stencil this step
-  std::vector<Grid> fields;     // per body with contact (fields[b] is body b's), else fields[0]
-  bool per_body = false;
-  // Contact (contact.cpp), rebuilt each step. For each listed contact node k and body b:
+  std::vector<Grid> fields;     // per field group with contact (fields[field_index[b]] is body b's), else fields[0]
+  bool per_body = false;        // contact: a field per group of bonded bodies
+  // [body] -> its field: with contact its group's (ContactGroups; body b's own without bonded
+  // pairs), else 0.
+  std::vector<int32_t> field_index;
+  // Contact (contact.cpp), rebuilt each step. For each listed contact node k and field b:
   // whether b takes part in the contact there, and b's outward unit normal (zero for a fixed
-  // body). While listing: each candidate node's index (else -1), and per thread the extents of
-  // the bodies along each normal.
+  // field). While listing: each candidate node's index (else -1), and per thread the extents of
+  // the fields along each normal.
   std::vector<uint8_t> touching;             // [k * bodies + b]
   std::vector<Vec2> contact_normal;          // [k * bodies + b]
   std::vector<int32_t> contact_slot;         // [node]
@@ -35,7 +39,8 @@ struct Grids {
   // particle and a final end: fixed particles never move and keep their order.
   std::vector<std::size_t> fixed_runs;
 
-  int field_of(int32_t body) const { return per_body ? body : 0; }
+  // One load, no branch: P2G's loop over the fixed particles does little else per particle.
+  int field_of(int32_t body) const { return field_index[body]; }
 };
 
 // Per-thread scatter targets for one velocity field, so that P2G needs no locks.

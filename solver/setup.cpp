@@ -101,14 +101,17 @@ Simulation make_simulation(const Model& model, int threads) {
   sort_particles(sim);
   sim.reorders = 0;
 
-  // The contact pass runs only where bodies can meet: two or more bodies, contact on.
-  const std::size_t bodies = model.bodies.size();
-  config.contact = model.contact.enabled && bodies > 1;
+  // The contact pass runs only where bodies can meet: two or more field groups (bodies, or
+  // groups of bonded bodies), contact on.
+  std::vector<std::string> names;
+  for (const auto& body : model.bodies) names.push_back(body.name);
+  ContactGroups groups = contact_groups(model.contact, names, config.body_fixed);
+  if (!groups.problem.empty()) throw Error("contact: " + groups.problem);
+  config.contact = model.contact.enabled && groups.count() > 1;
   if (config.contact) {
-    config.pair_friction.assign(bodies, std::vector<double>(bodies, model.contact.friction));
-    for (std::size_t i = 0; i < bodies; ++i)
-      for (std::size_t j = 0; j < bodies; ++j)
-        config.pair_friction[i][j] = pair_friction(model.contact, model.bodies[i].name, model.bodies[j].name);
+    config.pair_friction = std::move(groups.friction);
+    config.field_fixed = std::move(groups.fixed);
+    sim.scratch.grids.field_index = std::move(groups.of_body);
   } else {
     // One velocity field: a fixed body is a rigid support, so the nodes it touches do not move.
     const Particles& P = sim.particles;
@@ -120,7 +123,8 @@ Simulation make_simulation(const Model& model, int threads) {
   Scratch& scratch = sim.scratch;
   const std::size_t nodes = config.mesh.node_count();
   scratch.grids.per_body = config.contact;
-  scratch.grids.fields.resize(config.contact ? bodies : 1);
+  if (!config.contact) scratch.grids.field_index.assign(model.bodies.size(), 0);
+  scratch.grids.fields.resize(config.contact ? config.field_fixed.size() : 1);
   const bool xpic = config.transfer == Transfer::Xpic && config.xpic_order > 1;
   for (auto& grid : scratch.grids.fields) resize_grid(grid, nodes, config.contact, xpic);
   scratch.node_stamp.assign(nodes, 0);

@@ -21,10 +21,11 @@ struct Config {
   std::vector<MaterialState> materials;
   std::vector<int32_t> material_of_body;
   std::vector<uint8_t> body_fixed;
-  // Frictional contact between bodies (per-body velocity fields); off for one body, or when
-  // the scene bonds all bodies into one field.
+  // Frictional contact between the groups of bonded bodies (a velocity field per group,
+  // Grids::field_index); off for one body, or when the scene bonds all bodies into one field.
   bool contact = false;
-  std::vector<std::vector<double>> pair_friction;  // [body][body], Coulomb coefficient
+  std::vector<std::vector<double>> pair_friction;  // [field][field], Coulomb coefficient
+  std::vector<uint8_t> field_fixed;                // [field]: a fixed body's (contact only)
 
   Vec2 gravity{0, -9.81};    // full gravity (m/s^2)
   double gravity_ramp = 0;   // s; see RunSettings::gravity_ramp

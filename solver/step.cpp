@@ -15,12 +15,12 @@ bool step(Simulation& sim, double dt) {
   Particles& P = sim.particles;
   Scratch& s = sim.scratch;
   const int threads = c.threads;
-  const ContactRules contact{c.pair_friction, c.body_fixed, c.constraints};
+  const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints};
 
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
   load_factors(c, sim.time, s.load_factor);
   particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads);
-  update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, threads);
+  update_grid_accelerations(c.constraints, c.field_fixed, c.damping, dt, s.grids, threads);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
     find_contact_nodes(contact, P, s.stencil, s.grids, s.contact_nodes, threads);
@@ -36,7 +36,7 @@ bool step(Simulation& sim, double dt) {
     }
   }
   update_particle_velocities(P, s.stencil, c.mesh.nodes, c.transfer, dt, s.grids, s.buffers, threads);
-  remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, threads);
+  remap_grid_velocities(c.constraints, c.field_fixed, s.grids, s.buffers, threads);
   if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
@@ -149,13 +149,13 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
   });
 }
 
-void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, double damping,
+void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& field_fixed, double damping,
                                double dt, Grids& grids, int threads) {
   const auto& active = grids.active;
   const long count = static_cast<long>(active.size());
   for (std::size_t field = 0; field < grids.fields.size(); ++field) {
     Grid& grid = grids.fields[field];
-    const bool fixed_body = grids.per_body && body_fixed[field];
+    const bool fixed_body = grids.per_body && field_fixed[field];
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long k = 0; k < count; ++k) {
       const int32_t i = active[k];
@@ -252,7 +252,7 @@ void update_particle_velocities(Particles& P, const Stencil& S, const std::vecto
   }
 }
 
-void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
+void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& field_fixed, Grids& grids,
                            ThreadBuffers& buffers, int threads) {
   const auto& active = grids.active;
   const long count = static_cast<long>(active.size());
@@ -267,7 +267,7 @@ void remap_grid_velocities(const Constraints& constraints, const std::vector<uin
         mom += buffers[t][field].p[i];
         buffers[t][field].p[i].setZero();
       }
-      const bool fixed_body = grids.per_body && body_fixed[field];
+      const bool fixed_body = grids.per_body && field_fixed[field];
       grid.v[i] = grid.m[i] > 0 && !fixed_body ? Vec2(mom / grid.m[i]) : Vec2::Zero();  // (A.11)
       constrain(constraints, i, grid.v[i]);
     }

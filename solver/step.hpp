@@ -27,8 +27,8 @@ void particles_to_grid(const Particles& P, const Stencil& stencil, const std::ve
                        const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
-// satisfies the constraints. A fixed body's field does not move.
-void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& body_fixed,
+// satisfies the constraints. A fixed body's field (field_fixed, with contact) does not move.
+void update_grid_accelerations(const Constraints& constraints, const std::vector<uint8_t>& field_fixed,
                                double damping, double dt, Grids& grids, int threads);
 
 // XPIC and APIC only (transfer.cpp): grid.v = v_i + dt a_i, PIC's velocity (with the
@@ -48,7 +48,7 @@ void update_particle_velocities(Particles& P, const Stencil& stencil, const std:
                                 double dt, const Grids& grids, ThreadBuffers& buffers, int threads);
 
 // (A.11): v_i = sum N_ip m_p v_p / m_i, constrained.
-void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& body_fixed, Grids& grids,
+void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& field_fixed, Grids& grids,
                            ThreadBuffers& buffers, int threads);
 
 // (A.12): x_p += dt sum N_ip v_i; the strain increment d_eps and the Jaumann rotation of the
@@ -86,16 +86,16 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads);
 
 // ---- Frictional contact (contact.cpp) -------------------------------------------------------
-// Bardenhagen et al. (2000), seed appendix B: at nodes where more than one body has mass and
-// their particles touch (docs/contact.md, "Detection"), approach is removed along the normal
-// and the tangential part follows Coulomb stick or slip.
+// Bardenhagen et al. (2000), seed appendix B: at nodes where more than one field (a body, or a
+// group of bonded bodies) has mass and their particles touch (docs/contact.md, "Detection"),
+// approach is removed along the normal and the tangential part follows Coulomb stick or slip.
 // A fixed body is rigid: the reference velocity at a node it touches is zero. After the
 // correction each node's constraints hold again (a body pushed along a roller wall by contact
 // still does not cross it).
 
 struct ContactRules {
-  const std::vector<std::vector<double>>& pair_friction;
-  const std::vector<uint8_t>& body_fixed;
+  const std::vector<std::vector<double>>& pair_friction;  // [field][field]
+  const std::vector<uint8_t>& field_fixed;
   const Constraints& constraints;
 };
 

@@ -107,6 +107,25 @@ std::string results_row(const fs::path& dir, const std::function<void(const std:
   return "post " + results;
 }
 
+// The base scene with more bodies (TOML tables before [contact]) and [[contact.pairs]] after
+// its friction. The scene is refused while it is read, before any body is meshed.
+std::string pairs_row(const fs::path& dir, const std::string& bodies, const std::string& pairs) {
+  return scene_row(dir, replaced(kScene, "[contact]\nfriction = 0.3\n",
+                                 bodies + "\n[contact]\nfriction = 0.3\n\n" + pairs));
+}
+const char* const kOther = "[bodies.other]\nmaterial = \"rock\"\ngroup = \"speck\"\n";
+
+// The small model with one contact pair (datasets as model.cpp writes them).
+std::string paired_model_row(const fs::path& dir, const std::vector<std::string>& names, int32_t bonded) {
+  return model_row(dir, [=](auto p) {
+    edit_h5(p, [&](auto& f) {
+      h5::write(f, "settings/contact/pair_bodies", names);
+      h5::write(f, "settings/contact/pair_friction", std::vector<double>{0.0}, {1});
+      h5::write(f, "settings/contact/pair_bonded", std::vector<int32_t>{bonded}, {1});
+    });
+  });
+}
+
 std::vector<Row> rows() {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   return {
@@ -393,6 +412,50 @@ std::vector<Row> rows() {
          });
        },
        {"results.h5", "file has version 2", "reads version 1"}},
+      {"bonded pair not a boolean",
+       [](auto d) { return pairs_row(d, kOther, "[[contact.pairs]]\nbodies = [\"block\", \"other\"]\nbonded = 1\n"); },
+       {"block.toml", "contact.pairs[0].bonded", "expected true or false"}},
+      {"bonded pair with friction",
+       [](auto d) {
+         return pairs_row(d, kOther, "[[contact.pairs]]\nbodies = [\"block\", \"other\"]\nbonded = true\nfriction = 0.2\n");
+       },
+       {"block.toml", "contact.pairs[0].friction", "a bonded pair takes no friction"}},
+      {"contact pair naming an unknown body",
+       [](auto d) { return pairs_row(d, kOther, "[[contact.pairs]]\nbodies = [\"block\", \"ghost\"]\nbonded = true\n"); },
+       {"block.toml", "contact.pairs[0].bodies", "no body named 'ghost'"}},
+      {"contact pair listed twice",
+       [](auto d) {
+         return pairs_row(d, kOther,
+                          "[[contact.pairs]]\nbodies = [\"block\", \"other\"]\nbonded = true\n\n"
+                          "[[contact.pairs]]\nbodies = [\"other\", \"block\"]\nfriction = 0.1\n");
+       },
+       {"block.toml", "contact.pairs[1].bodies", "listed twice", "contact.pairs[0]"}},
+      {"bonded bodies meeting a third with two coefficients",
+       [](auto d) {
+         return pairs_row(d, std::string(kOther) + "\n[bodies.third]\nmaterial = \"rock\"\ngroup = \"speck\"\n",
+                          "[[contact.pairs]]\nbodies = [\"block\", \"other\"]\nbonded = true\n\n"
+                          "[[contact.pairs]]\nbodies = [\"other\", \"third\"]\nfriction = 0.5\n");
+       },
+       {"block.toml", "contact.pairs", "one friction coefficient", "'block'-'third' has 0.3", "'other'-'third' has 0.5"}},
+      {"bonded fixed and moving bodies",
+       [](auto d) {
+         return pairs_row(d, std::string(kOther) + "fixed = true\n",
+                          "[[contact.pairs]]\nbodies = [\"block\", \"other\"]\nbonded = true\n");
+       },
+       {"block.toml", "contact.pairs", "mix fixed and moving bodies"}},
+      {"model with a bonded pair naming an unknown body",
+       [](auto d) { return paired_model_row(d, {"block", "ghost"}, 1); },
+       {"model.h5", "settings/contact", "no body named 'ghost'"}},
+      {"model with a pair_bonded flag of 2",
+       [](auto d) { return paired_model_row(d, {"block", "block"}, 2); },
+       {"model.h5", "settings/contact/pair_bonded", "expected 0 or 1"}},
+      {"model with pair_bonded of another length",
+       [](auto d) {
+         return model_row(d, [](auto p) {
+           edit_h5(p, [](auto& f) { h5::write(f, "settings/contact/pair_bonded", std::vector<int32_t>{0}, {1}); });
+         });
+       },
+       {"model.h5", "settings/contact", "pair_bonded and pair_friction disagree"}},
       {"model handed to post", [](auto d) { return model_row(d, [](auto) {}, "post"); },
        {"model.h5", "not a Talus talus-results file"}},
   };
