@@ -13,6 +13,7 @@
 #include "preproc/preproc.hpp"
 #include "solver/pore_pressure.hpp"
 #include "solver/step.hpp"
+#include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;
@@ -21,64 +22,16 @@ using talus::testing::ScratchDir;
 
 namespace {
 
-// An elastic column 0.5 m wide and H = 2 m high on a fixed base, rollers on both sides, under a
-// pressure q on its top, ramped over 0.3 s and damped to rest; gravity off. The water table lies
-// a micrometre above the base (it must lie in the domain), so that all of u is excess.
-constexpr double kWidth = 0.5, kHeight = 2.0, kQ = 1e4, kE = 1e7, kNu = 0.3;
+// The oedometric column (support/oedometer_column.hpp): 0.5 m wide, H = 2 m, q on its top. The
+// water table lies a micrometre above the base (it must lie in the domain), so that all of u is
+// excess.
+using namespace talus::testing;
+constexpr double kWidth = kColumnWidth, kHeight = kColumnHeight, kQ = kColumnLoad, kE = kColumnE, kNu = kColumnNu;
 constexpr double kWaterBulk = 4e6, kPorosity = 0.4;  // K_w / n = 1e7 Pa, of the skeleton's M
 
-const char* const kColumnGeo = R"(lc = 0.1;
-Point(1) = {0, 0, 0, lc}; Point(2) = {0.5, 0, 0, lc}; Point(3) = {0.5, 2, 0, lc}; Point(4) = {0, 2, 0, lc};
-Point(5) = {0.5, 2.3, 0, lc}; Point(6) = {0, 2.3, 0, lc};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Line(5) = {3, 5}; Line(6) = {5, 6}; Line(7) = {6, 4};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Curve Loop(2) = {-3, 5, 6, 7}; Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("column") = {1};
-Physical Curve("base") = {1};
-Physical Curve("left") = {4, 7};
-Physical Curve("right") = {2, 5};
-Physical Curve("crest") = {3};
-)";
-
 std::string column_scene(const std::string& mode) {
-  return R"([scene]
-geometry = "scene.geo"
-
-[run]
-end_time = 2.0
-gravity = [0.0, 0.0]
-damping = 0.15
-
-[materials.soil]
-model = "linear_elastic"
-density = 2000.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-porosity = 0.4
-
-[bodies.column]
-material = "soil"
-
-[boundaries.base]
-type = "fixed"
-
-[boundaries.left]
-type = "roller"
-
-[boundaries.right]
-type = "roller"
-
-[loads.surcharge]
-group = "crest"
-pressure = 1.0e4
-ramp = 0.3
-
-[water]
-table = [[0.0, 1.0e-6], [0.5, 1.0e-6]]
-bulk_modulus = 4.0e6
-mode = ")" + mode + "\"\n";
+  return oedometer_column_scene("porosity = 0.4\n", "\n[water]\ntable = [[0.0, 1.0e-6], [0.5, 1.0e-6]]\n"
+                                                   "bulk_modulus = 4.0e6\nmode = \"" + mode + "\"\n");
 }
 
 struct ColumnAtRest {
@@ -92,7 +45,7 @@ struct ColumnAtRest {
 
 ColumnAtRest run_column(const std::string& mode) {
   ScratchDir dir("undrained_column_" + mode);
-  std::ofstream(dir.file("scene.geo")) << kColumnGeo;
+  std::ofstream(dir.file("scene.geo")) << kOedometerColumnGeo;
   std::ofstream(dir.file("scene.toml")) << column_scene(mode);
   const Model model = preproc::build_model(load_scene(dir.file("scene.toml")));
   omp_set_num_threads(1);
@@ -217,6 +170,10 @@ TEST(Undrained, IsotropicCompressionRaisesThePorePressureByKwOverNTimesTheStrain
   std::printf("isotropic compression: K_w / n = %.3e Pa, worst excess error %.2e of its peak\n", Kw_n, worst);
   EXPECT_LT(worst, 1e-9);
   EXPECT_NEAR(P.excess_pore_pressure[0], 0, 1e-6);
+
+  // The time step follows the stiffer mixture: c = sqrt((K + K_w / n + 4G/3) / rho).
+  const MaterialState& m = o.config.materials[0];
+  EXPECT_NEAR(m.wave_speed, std::sqrt((K + Kw_n + 4 * m.shear_modulus / 3) / 2000), 1e-9 * m.wave_speed);
 
   OneParticle dry = one_particle(0);
   ASSERT_EQ(update_stresses_with_water(dry.P, compress, {0}, dry.config, 0, 1), -1);
