@@ -210,5 +210,37 @@ TEST(BishopWater, InfiniteSlopeWithTheTableAtTheSurfaceWithinTwoPercent) {
   EXPECT_NEAR(half.pore_pressure, 2 * gamma_w, 1e-9);
 }
 
+
+// Fredlund and Krahn (1977) example case 5: case 1 above with a piezometric line, straight from
+// (0, 40) ft at the left boundary (20 ft below the crest) to the toe (140, 20) ft and along the
+// ground beyond, gamma = 120 pcf above and below it, gamma_w = 62.4 pcf. Published
+// simplified-Bishop factor of safety 1.834 for the circle of case 1 (the paper's table, as listed
+// by the MacSlope verification; pybimstab's example "Case 5", with this line, gets 1.831 by
+// Morgenstern-Price against the published 1.833). The scene: geometries/fredlund_krahn.toml.
+TEST(BishopWater, FredlundKrahnCaseFiveWithinThreePercent) {
+  const SlopeProfile profile = slope_profile({{0, 0}, {170, 0}, {170, 20}, {140, 20}, {60, 60}, {0, 60}});
+  WaterSettings water;
+  water.table = {{0, 40}, {140, 20}, {170, 20}};
+  water.unit_weight = 62.4;
+  const SoilStrength soil{600, 20, 120};
+  const WaterTableSoil wet(soil, 120, water.unit_weight, [&](double x) { return water.height(x); });
+  const auto circle = bishop_factor_of_safety(profile, wet, {{120, 90}, 80});
+  ASSERT_TRUE(circle);
+  std::printf("Fredlund-Krahn case 5: F = %.4f (published 1.834)\n", circle->factor_of_safety);
+  EXPECT_NEAR(circle->factor_of_safety, 1.834, 0.03 * 1.834);
+  // The water costs the circle about 12 % of its dry factor (2.080 published).
+  const double dry = bishop_factor_of_safety(profile, soil, {{120, 90}, 80})->factor_of_safety;
+  EXPECT_NEAR(circle->factor_of_safety / dry, 1.834 / 2.080, 0.01);
+  // The critical circle (the search, bounded by the bedrock) is a little below the published
+  // circle's, and still within 3 % of its factor.
+  const auto critical = bishop_search(profile, wet);
+  ASSERT_TRUE(critical);
+  std::printf("Fredlund-Krahn case 5, critical circle: F = %.4f, centre (%.1f, %.1f) ft, R = %.1f ft\n",
+              critical->factor_of_safety, critical->circle.centre.x(), critical->circle.centre.y(),
+              critical->circle.radius);
+  EXPECT_LE(critical->factor_of_safety, circle->factor_of_safety);
+  EXPECT_NEAR(critical->factor_of_safety, 1.834, 0.03 * 1.834);
+}
+
 }  // namespace
 }  // namespace talus::postproc

@@ -1,9 +1,12 @@
 // Interrupting and restarting a solve through the talus binary: SIGTERM midway stops it with
 // status 143, a checkpoint and a readable, incomplete results.h5; --restart then finishes the
 // run with frames identical, bit for bit, to those of an uninterrupted run on the same number
-// of threads (one or two). A restart on a changed model is refused, naming what changed.
+// of threads (one or two). A restart on a changed model is refused, naming what changed. With
+// a water table (drained and undrained, rising) the pore pressures restart bit for bit too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "common/h5.hpp"
@@ -41,20 +44,34 @@ class Restart : public ::testing::Test {
     const auto meshed = run_talus("mesh " + testing::source_path("geometries/spring_mass.toml") + " --quiet --out " +
                                   dir_->file("model"));
     ASSERT_EQ(meshed.status, 0) << meshed.output;
+    // The same column to t = 0.06 s under a water table at mid-height that rises 0.4 m in
+    // 0.13 s; the undrained one with a soft water (K_w / n = 3.3e5 Pa against the spring's
+    // E = 5e5 Pa), so that its excess pore pressure matters and the time step stays about the same.
+    const std::string water = " --set run.end_time=0.06 --set 'water.table=[[0.0, 0.5], [0.1, 0.5]]'"
+                              " --set 'water.rise=[[0.0, 0.0], [0.13, 0.4]]'";
+    for (const char* mode : {"drained", "undrained"}) {
+      const auto wet = run_talus("mesh " + testing::source_path("geometries/spring_mass.toml") + " --quiet" + water +
+                                 " --set water.mode=" + mode +
+                                 " --set water.bulk_modulus=1.0e5 --set materials.spring.porosity=0.3 --out " +
+                                 dir_->file(std::string("model-") + mode));
+      ASSERT_EQ(wet.status, 0) << wet.output;
+    }
   }
   static void TearDownTestSuite() {
     delete dir_;
     dir_ = nullptr;
   }
   static std::string model() { return dir_->file("model/model.h5"); }
+  static std::string water_model(const std::string& mode) { return dir_->file("model-" + mode + "/model.h5"); }
   static ScratchDir* dir_;
 };
 ScratchDir* Restart::dir_ = nullptr;
 
 // Solves uninterrupted and stopped-then-restarted on `threads` threads; the frames and the
 // history must agree bit for bit. With `check_refusals`, a checkpoint of another format
-// version and one of a changed model are refused first.
-void expect_restart_bit_for_bit(const std::string& model, const fs::path& dir, int threads, bool check_refusals) {
+// version and one of a changed model are refused first. With `water`, the pore pressures too.
+void expect_restart_bit_for_bit(const std::string& model, const fs::path& dir, int threads, bool check_refusals,
+                                bool water = false) {
   const std::string t = " --threads " + std::to_string(threads);
   const fs::path whole = dir / "whole", parts = dir / "parts";
   const auto uninterrupted = run_talus("solve " + model + t + " --quiet --out " + whole.string());
@@ -118,10 +135,11 @@ void expect_restart_bit_for_bit(const std::string& model, const fs::path& dir, i
             h5::get_int(h5::File::open_read(reference), "/", "steps"));
   const std::string last_view =
       "xdmf/" + std::to_string(h5::read_doubles(h5::File::open_read(reference), "frames/time").size() - 1) + "/";
-  const std::vector<std::string> compared{"frames/time", "frames/position", "frames/velocity", "frames/stress",
-                                          "frames/plastic_strain", "frames/displacement", "frames/volume",
-                                          "history/time", "history/kinetic_energy", "history/strain_energy",
-                                          last_view + "displacement", last_view + "stress_yy"};
+  std::vector<std::string> compared{"frames/time", "frames/position", "frames/velocity", "frames/stress",
+                                    "frames/plastic_strain", "frames/displacement", "frames/volume",
+                                    "history/time", "history/kinetic_energy", "history/strain_energy",
+                                    last_view + "displacement", last_view + "stress_yy"};
+  if (water) compared.insert(compared.end(), {"frames/pore_pressure", last_view + "pore_pressure"});
   for (const std::string& path : compared) {
     SCOPED_TRACE(path);
     const auto expected = dataset(reference, path), actual = dataset(results, path);
@@ -142,6 +160,30 @@ TEST_F(Restart, SigtermMidwayThenRestartGivesTheUninterruptedFramesBitForBit) {
 
 TEST_F(Restart, BitForBitOnTwoThreadsToo) {
   expect_restart_bit_for_bit(model(), dir_->path() / "two-threads", 2, false);
+}
+
+TEST_F(Restart, WithADrainedRisingWaterTableBitForBit) {
+  expect_restart_bit_for_bit(water_model("drained"), dir_->path() / "drained", 1, false, true);
+}
+
+// The undrained excess pore pressure is carried by the particles (a checkpointed field).
+TEST_F(Restart, WithUndrainedWaterBitForBit) {
+  expect_restart_bit_for_bit(water_model("undrained"), dir_->path() / "undrained", 1, false, true);
+  // Against the drained (hydrostatic) value at each particle's position, the table at
+  // 0.5 + 0.4 t / 0.13 m: most particles below it carry an excess.
+  const std::string results = dir_->file("undrained/parts/results.h5");
+  const auto u = dataset(results, "frames/pore_pressure"), x = dataset(results, "frames/position"),
+             t = dataset(results, "frames/time");
+  const std::size_t n = u.size() / t.size();
+  std::size_t wet = 0, excess = 0;
+  for (std::size_t f = 0; f < t.size(); ++f)
+    for (std::size_t p = 0; p < n; ++p) {
+      const double depth = 0.5 + 0.4 * std::min(t[f], 0.13) / 0.13 - x[2 * (f * n + p) + 1];
+      if (depth <= 0.01) continue;
+      ++wet;
+      excess += std::abs(u[f * n + p] - 9810 * depth) > 1.0;
+    }
+  EXPECT_GT(excess, wet / 2) << "the undrained run has no excess pore pressure";
 }
 
 TEST_F(Restart, SigintStopsWithStatus130AndAClosedReadableFile) {

@@ -1,6 +1,6 @@
 // Strain softening of the Mohr-Coulomb material (solver/material.hpp, docs/water.md) at one
 // material point, strength reduction of peak and residual alike, the element-size
-// regularisation, and the undrained pore pressure of one particle.
+// regularisation (the undrained pore pressure: undrained_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -100,44 +100,4 @@ TEST(Softening, RegularisationScalesTheStrainsWithElementSize) {
   prepare_materials(config, model);
   EXPECT_NEAR(config.materials[0].softening_start, 0.01 * 1.0 / 0.5, 1e-12);  // sqrt(2 A) = 0.5
   EXPECT_NEAR(config.materials[0].softening_end, 0.05 * 1.0 / 0.5, 1e-12);
-}
-
-// Undrained: an isotropic compression d(eps_v) = -1e-5 of one particle raises its excess pore
-// pressure by K_w / n 1e-5 and leaves the effective stress with the skeleton's K d(eps_v) alone.
-TEST(Undrained, ExcessPorePressureFollowsTheVolumetricStrain) {
-  Material m = softening_sand();
-  m.softening_end = 0;
-  m.porosity = 0.4;
-  Config config;
-  config.water.table = {{-10, 10}, {10, 10}};
-  config.water.mode = WaterMode::Undrained;
-  config.materials = {make_material(m)};
-  config.material_of_body = {0};
-  config.initial_volume = {1};
-  Model model;
-  model.materials = {m};
-  prepare_materials(config, model);
-  Particles P;
-  P.x = {{0, 5}};
-  P.v = {{0, 0}};
-  P.m = {2000};
-  P.volume = {1};
-  P.body = {0};
-  P.id = {0};
-  P.eps_p = {0};
-  P.moving_count = 1;
-  initial_pore_pressures(P, config, 0);
-  const double u0 = 9810 * 5;
-  ASSERT_NEAR(P.pore_pressure[0], u0, 1e-9);
-  P.sigma = {Vec4(-100e3 - u0, -100e3 - u0, -100e3 - u0, 0)};  // total; effective -100 kPa
-  const std::vector<Vec4> d_eps = {Vec4(-1e-5 / 2, -1e-5 / 2, 0, 0)};
-  ASSERT_EQ(update_stresses_with_water(P, d_eps, {0}, config, 0, 1), -1);
-  const double du = 2.2e9 / 0.4 * 1e-5;
-  const double K = config.materials[0].bulk_modulus;
-  EXPECT_NEAR(P.excess_pore_pressure[0], du, 1e-9 * du);
-  EXPECT_NEAR(P.pore_pressure[0], u0 + du, 1e-9 * du);
-  const Vec4 effective = effective_stress(P, 0);
-  EXPECT_NEAR(effective[0] + effective[1] + effective[2], 3 * (-100e3 - K * 1e-5), 1e-6 * 100e3);
-  // The time step follows the stiffer mixture: c = sqrt((K + K_w / n + 4G/3) / rho).
-  EXPECT_GT(config.materials[0].wave_speed, std::sqrt(2.2e9 / 0.4 / 2000));
 }

@@ -15,6 +15,7 @@
 #include "preproc/preproc.hpp"
 #include "solver/checkpoint.hpp"
 #include "solver/step.hpp"
+#include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;
@@ -39,60 +40,14 @@ Vec2 total_nodal_force(const Simulation& sim) {
 
 double smooth_ramp(double t, double T) { return t >= T ? 1.0 : 0.5 * (1 - std::cos(M_PI * t / T)); }
 
-// An elastic column 0.5 m wide and H = 2 m high on a fixed base, rollers on both sides, under
-// a pressure q on its top, ramped and damped to rest. Gravity is off.
-constexpr double kWidth = 0.5, kHeight = 2.0, kQ = 1e4, kE = 1e7, kNu = 0.3, kRho = 2000;
-
-const char* const kColumnGeo = R"(lc = 0.1;
-Point(1) = {0, 0, 0, lc}; Point(2) = {0.5, 0, 0, lc}; Point(3) = {0.5, 2, 0, lc}; Point(4) = {0, 2, 0, lc};
-Point(5) = {0.5, 2.3, 0, lc}; Point(6) = {0, 2.3, 0, lc};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Line(5) = {3, 5}; Line(6) = {5, 6}; Line(7) = {6, 4};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Curve Loop(2) = {-3, 5, 6, 7}; Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("column") = {1};
-Physical Curve("base") = {1};
-Physical Curve("left") = {4, 7};
-Physical Curve("right") = {2, 5};
-Physical Curve("crest") = {3};
-)";
-
-const char* const kColumnScene = R"([scene]
-geometry = "scene.geo"
-
-[run]
-end_time = 2.0
-gravity = [0.0, 0.0]
-damping = 0.15
-
-[materials.soil]
-model = "linear_elastic"
-density = 2000.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[bodies.column]
-material = "soil"
-
-[boundaries.base]
-type = "fixed"
-
-[boundaries.left]
-type = "roller"
-
-[boundaries.right]
-type = "roller"
-
-[loads.surcharge]
-group = "crest"
-pressure = 1.0e4
-ramp = 0.3
-)";
+// The oedometric column (support/oedometer_column.hpp): 0.5 m wide, H = 2 m, q on its top.
+constexpr double kWidth = talus::testing::kColumnWidth, kHeight = talus::testing::kColumnHeight,
+                 kQ = talus::testing::kColumnLoad, kE = talus::testing::kColumnE, kNu = talus::testing::kColumnNu;
 
 TEST(SurfaceLoads, OedometricColumnSettlesQHOverM) {
   ScratchDir dir("surface_loads_oedometer");
-  const Model model = mesh_scene(dir, kColumnGeo, kColumnScene);
+  const Model model =
+      mesh_scene(dir, talus::testing::kOedometerColumnGeo, talus::testing::oedometer_column_scene());
   ASSERT_EQ(model.loads.size(), 1u);
   // The shares of the curve's length sum to the loaded length, along the outward normal (0, 1).
   double length = 0;
