@@ -252,6 +252,44 @@ void check_water_table(const WaterSettings& water, const Region& domain, const S
   }
 }
 
+// Water standing above the ground is not modelled: its weight on the surface is not applied,
+// so soil under it would carry a pore pressure with no load above it (tensile effective stress,
+// no strength). The table, at its highest rise, must therefore stay at or below the ground
+// wherever there are bodies: the top of the highest particle (y + sqrt(V)/2) of each vertical
+// strip two particle spacings wide, within one spacing. Strips without particles are not
+// checked (the table may run over empty parts of the domain).
+void check_table_below_ground(const WaterSettings& water, const std::vector<Eigen::Vector2d>& position,
+                              const std::vector<double>& volume, const Scene& scene) {
+  if (!water.enabled() || position.empty()) return;
+  double rise = 0, mean_volume = 0, lowest_x = INFINITY;
+  for (const auto& point : water.rise) rise = std::max(rise, point.y());
+  for (std::size_t p = 0; p < position.size(); ++p) {
+    mean_volume += volume[p] / static_cast<double>(position.size());
+    lowest_x = std::min(lowest_x, position[p].x());
+  }
+  const double strip = 2 * std::sqrt(mean_volume);
+  std::vector<std::ptrdiff_t> top;  // per strip: the particle whose top is highest, or -1
+  auto top_of = [&](std::size_t p) { return position[p].y() + 0.5 * std::sqrt(volume[p]); };
+  for (std::size_t p = 0; p < position.size(); ++p) {
+    const auto k = static_cast<std::size_t>((position[p].x() - lowest_x) / strip);
+    if (k >= top.size()) top.resize(k + 1, -1);
+    if (top[k] < 0 || top_of(p) > top_of(static_cast<std::size_t>(top[k]))) top[k] = static_cast<std::ptrdiff_t>(p);
+  }
+  for (const std::ptrdiff_t t : top) {
+    if (t < 0) continue;
+    const auto p = static_cast<std::size_t>(t);
+    const double ground = top_of(p), table = water.height(position[p].x()) + rise;
+    if (table - ground > std::sqrt(volume[p])) {
+      std::ostringstream message;
+      message << std::setprecision(4) << "at x = " << position[p].x() << " m the table" << (rise > 0 ? " at its highest rise" : "")
+              << " (y = " << table << " m) is " << table - ground << " m above the ground (y = " << ground
+              << " m): water standing above the ground is not modelled (its weight on the surface is not applied); "
+                 "let the table follow the ground surface where the water reaches it";
+      throw Error(located(scene.path, "water.table", message.str()));
+    }
+  }
+}
+
 }  // namespace
 
 Model build_model(const Scene& scene, MeshReport* report) {
@@ -328,6 +366,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.volume = std::move(seeds.volume);
   model.body = std::move(seeds.body);
   model.element = std::move(seeds.element);
+  check_table_below_ground(scene.water, model.position, model.volume, scene);
   model.velocity.resize(n);
   model.mass.resize(n);
   model.stress.resize(n);

@@ -205,6 +205,17 @@ std::vector<Row> rows() {
          return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\ntable = [[10.0, 0.5], [12.0, 0.5]]");
        },
        {"water.table", "outside the domain"}},
+      {"water table above the ground",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3", "friction = 0.3\n[water]\ntable = [[0.0, 30.0], [2.0, 30.0]]");
+       },
+       {"water.table", "above the ground", "follow the ground surface"}},
+      {"water table rising above the ground",
+       [](auto d) {
+         return scene_change(d, "friction = 0.3",
+                             "friction = 0.3\n[water]\ntable = [[0.0, -5.0], [2.0, -5.0]]\nrise = [[0.0, 0.0], [1.0, 40.0]]");
+       },
+       {"water.table", "at its highest rise", "above the ground"}},
       {"unknown water mode",
        [](auto d) {
          return scene_change(d, "friction = 0.3",
