@@ -261,8 +261,11 @@ void check_water_table(const WaterSettings& water, const Region& domain, const S
 void check_table_below_ground(const WaterSettings& water, const std::vector<Eigen::Vector2d>& position,
                               const std::vector<double>& volume, const Scene& scene) {
   if (!water.enabled() || position.empty()) return;
-  double rise = 0, mean_volume = 0, lowest_x = INFINITY;
-  for (const auto& point : water.rise) rise = std::max(rise, point.y());
+  // The table is highest at t = 0 or at one of the rise's points (it is linear between them).
+  double highest_time = 0, mean_volume = 0, lowest_x = INFINITY;
+  for (const auto& point : water.rise)
+    if (water.rise_at(point.x()) > water.rise_at(highest_time)) highest_time = point.x();
+  const bool risen = !water.rise.empty() && water.rise_at(highest_time) > 0;
   for (std::size_t p = 0; p < position.size(); ++p) {
     mean_volume += volume[p] / static_cast<double>(position.size());
     lowest_x = std::min(lowest_x, position[p].x());
@@ -278,10 +281,10 @@ void check_table_below_ground(const WaterSettings& water, const std::vector<Eige
   for (const std::ptrdiff_t t : top) {
     if (t < 0) continue;
     const auto p = static_cast<std::size_t>(t);
-    const double ground = top_of(p), table = water.height(position[p].x()) + rise;
+    const double ground = top_of(p), table = water.height(position[p].x(), highest_time);
     if (table - ground > std::sqrt(volume[p])) {
       std::ostringstream message;
-      message << std::setprecision(4) << "at x = " << position[p].x() << " m the table" << (rise > 0 ? " at its highest rise" : "")
+      message << std::setprecision(4) << "at x = " << position[p].x() << " m the table" << (risen ? " at its highest rise" : "")
               << " (y = " << table << " m) is " << table - ground << " m above the ground (y = " << ground
               << " m): water standing above the ground is not modelled (its weight on the surface is not applied); "
                  "let the table follow the ground surface where the water reaches it";
