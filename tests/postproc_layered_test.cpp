@@ -11,6 +11,8 @@
 #include "postproc/bishop.hpp"
 #include "postproc/slice_model.hpp"
 #include "postproc/slope_geometry.hpp"
+#include "solver/material.hpp"
+#include "solver/strength_reduction.hpp"
 
 namespace talus::postproc {
 namespace {
@@ -100,7 +102,10 @@ Model two_layer_clay(double lambda) {
   const double density = 20e3 / 9.81;
   Material clay, foundation;
   clay.name = "clay", foundation.name = "foundation";
-  for (Material* m : {&clay, &foundation}) m->model = MaterialModel::MohrCoulomb, m->density = density;
+  for (Material* m : {&clay, &foundation}) {
+    m->model = MaterialModel::MohrCoulomb, m->density = density;
+    m->youngs_modulus = 1e8, m->poisson_ratio = 0.3;
+  }
   clay.cohesion = 50e3;
   foundation.cohesion = lambda * 50e3;
   model.materials = {clay, foundation};
@@ -170,6 +175,29 @@ TEST(Layered, AnalysedBodiesFollowPostBodiesAndRefuseUnknownNames) {
   }
   model.post.bodies.clear();  // post.body alone (the first body when empty)
   EXPECT_EQ(analysed_bodies(model, body_of, {"results.h5"}).indices, (std::vector<int>{0}));
+}
+
+// Strength reduction divides every soil (Mohr-Coulomb) material, each its own c and tan phi, and
+// leaves a linear-elastic body's material alone.
+TEST(Layered, StrengthReductionDividesEveryMohrCoulombMaterial) {
+  Model model = two_layer_clay(1.5);
+  model.materials[1].friction_angle = 30;
+  Material block;
+  block.name = "block";
+  block.model = MaterialModel::LinearElastic;
+  block.density = 2400, block.youngs_modulus = 3e10, block.poisson_ratio = 0.2;
+  block.cohesion = 1e6, block.friction_angle = 40;  // not used by an elastic material: must stay unreduced
+  model.materials.push_back(block);
+  solver::Simulation sim;
+  for (const Material& m : model.materials) sim.config.materials.push_back(solver::make_material(m));
+  const auto untouched = sim.config.materials[2].peak;
+  solver::reduce_strength(sim, model, 2.0);
+  EXPECT_DOUBLE_EQ(sim.config.materials[0].peak.cohesion, 25e3);
+  EXPECT_DOUBLE_EQ(sim.config.materials[0].peak.friction_angle, 0);
+  EXPECT_DOUBLE_EQ(sim.config.materials[1].peak.cohesion, 37.5e3);
+  EXPECT_NEAR(std::tan(sim.config.materials[1].peak.friction_angle * M_PI / 180), std::tan(M_PI / 6) / 2, 1e-12);
+  EXPECT_EQ(sim.config.materials[2].peak.cohesion, untouched.cohesion);
+  EXPECT_EQ(sim.config.materials[2].peak.friction_angle, untouched.friction_angle);
 }
 
 }  // namespace
