@@ -122,9 +122,6 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Ma
   return bishop;
 }
 
-}  // namespace talus::postproc
-
-namespace talus::postproc {
 
 GroundLoads ground_loads(const AnalysedBodies& bodies, const std::vector<Eigen::Vector2d>& position,
                          const std::vector<Eigen::Vector2d>& load_force, const std::vector<double>& volume) {
