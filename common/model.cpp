@@ -208,6 +208,7 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::create_group(file, "settings/post");
   h5::write(file, "settings/post/metrics", post.metrics);
   h5::set_attribute(file, "settings/post", "body", post.body);
+  if (!post.bodies.empty()) h5::write(file, "settings/post/bodies", post.bodies);
   h5::set_attribute(file, "settings/post", "sliding_threshold", post.sliding_threshold);
   h5::set_attribute(file, "settings/post", "spring_amplitude", post.spring_amplitude);
   h5::set_attribute(file, "settings/post", "spring_omega", post.spring_omega);
@@ -323,6 +324,8 @@ void read_metadata(const h5::File& file, Model& model) {
   PostSettings& post = model.post;
   post.metrics = h5::read_strings(file, "settings/post/metrics");
   post.body = h5::get_string(file, "settings/post", "body");
+  post.bodies = h5::exists(file, "settings/post/bodies") ? h5::read_strings(file, "settings/post/bodies")
+                                                         : std::vector<std::string>{};
   post.sliding_threshold = h5::get_double(file, "settings/post", "sliding_threshold");
   post.spring_amplitude = h5::get_double(file, "settings/post", "spring_amplitude");
   post.spring_omega = h5::get_double(file, "settings/post", "spring_omega");
@@ -343,6 +346,19 @@ void write_results_start(const h5::File& file, const Model& metadata,
   h5::write(file, "particles/mass", mass, {n});
   h5::write(file, "particles/volume", volume, {n});
   h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
+}
+
+std::vector<Eigen::Vector2d> particle_load_forces(const Model& model) {
+  std::vector<Eigen::Vector2d> force;
+  if (model.loads.empty()) return force;
+  force.resize(model.particle_count());
+  for (std::size_t p = 0; p < force.size(); ++p) {
+    const int32_t L = model.load[p];
+    force[p] = L < 0                     ? Eigen::Vector2d::Zero()
+               : model.loads[L].pressure ? Eigen::Vector2d(-*model.loads[L].pressure * model.load_normal[p])
+                                         : Eigen::Vector2d(model.load_length[p] * *model.loads[L].traction);
+  }
+  return force;
 }
 
 void write_model(const std::string& path, const Model& model) {

@@ -75,6 +75,11 @@ struct Model {
   std::size_t particle_count() const { return position.size(); }
 };
 
+// Each particle's surface-load force at full load (N per m): the pressure along the inward
+// normal (-pressure x load_normal) or traction x load_length; zero for a particle without a
+// load. Empty when the model has no loads.
+std::vector<Eigen::Vector2d> particle_load_forces(const Model& model);
+
 // Writes to PATH.tmp and renames when complete, so no half-written model is ever left.
 void write_model(const std::string& path, const Model& model);
 // Checks the format tag and version, the presence and shapes of every dataset, and that the

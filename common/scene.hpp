@@ -193,6 +193,10 @@ struct PostSettings {
   // (validation scenes against their analytical solutions).
   std::vector<std::string> metrics;
   std::string body;                   // the body analysed (default: the first)
+  // The bodies of the slope metrics and of `talus fos` together (a layered slope); empty:
+  // `body` alone. The scene's default without `body` or `bodies`: every body that is not
+  // fixed and is of a Mohr-Coulomb material (docs/scenes.md).
+  std::vector<std::string> bodies;
   double sliding_threshold = 0.05;    // fraction of the slope height: moved more = sliding mass
   double spring_amplitude = 1e-3;     // m, y(t) = A (1 - cos(omega t))
   double spring_omega = 100;          // rad/s

@@ -100,8 +100,31 @@ void read_post(TableReader& top, Scene& scene) {
                                (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass or box_incline)"
                                                    : " (did you mean '" + suggestion + "'?)"));
     }
+  const bool body_given = post.has("body");
   ps.body = post.text("body", scene.bodies.front().name);
   if (scene.body_index(ps.body) < 0) post.fail("body", "no body named '" + ps.body + "' in [bodies]");
+  if (post.has("bodies")) {
+    ps.bodies = post.strings("bodies");
+    if (ps.bodies.empty()) post.fail("bodies", "expected at least one body name");
+    for (std::size_t i = 0; i < ps.bodies.size(); ++i) {
+      const std::string& name = ps.bodies[i];
+      if (scene.body_index(name) < 0) {
+        std::vector<std::string> names;
+        for (const auto& b : scene.bodies) names.push_back(b.name);
+        const std::string suggestion = nearest(name, names);
+        post.fail("bodies", "no body named '" + echoed(name) + "' in [bodies]" +
+                                (suggestion.empty() ? "" : " (did you mean '" + suggestion + "'?)"));
+      }
+      if (std::find(ps.bodies.begin(), ps.bodies.begin() + i, name) != ps.bodies.begin() + i)
+        post.fail("bodies", "body '" + echoed(name) + "' is listed twice");
+    }
+  } else if (!body_given) {
+    // Every soil body: not fixed, Mohr-Coulomb.
+    for (const auto& b : scene.bodies) {
+      const int m = scene.material_index(b.material);
+      if (!b.fixed && m >= 0 && scene.materials[m].model == MaterialModel::MohrCoulomb) ps.bodies.push_back(b.name);
+    }
+  }
   ps.sliding_threshold = post.number("sliding_threshold", ps.sliding_threshold, 0, 1, false, true);
   ps.spring_amplitude = post.number("spring_amplitude", ps.spring_amplitude, 0, kInf, false);
   ps.spring_omega = post.number("spring_omega", ps.spring_omega, 0, kInf, false);

@@ -32,6 +32,18 @@ struct AnalysedBody {
 // Results::body). Throws when no body has that name, there are no bodies, or it has no particles.
 AnalysedBody analysed_body(const Model& model, const std::vector<int32_t>& body_of, const Source& source);
 
+// The bodies of the slope metrics and of `talus fos` together: post.bodies, or post.body alone
+// when that list is empty. Throws when a name is unknown or listed twice, or a body has no
+// particles.
+struct AnalysedBodies {
+  std::vector<int> indices;            // into Model::bodies, in the order listed
+  std::vector<std::size_t> particles;  // their particles, in model order
+};
+AnalysedBodies analysed_bodies(const Model& model, const std::vector<int32_t>& body_of, const Source& source);
+
+// Their names, "a", or "a, b and c" for messages.
+std::string body_names(const Model& model, const AnalysedBodies& bodies);
+
 struct AnalysedSlope {
   Mirror mirror;          // scene frame <-> canonical frame
   SlopeProfile profile;   // canonical frame
@@ -42,6 +54,11 @@ struct AnalysedSlope {
 // not known or none. Throws when the body has no downhill face (a flat layer, or a level top
 // that did not move).
 AnalysedSlope analysed_slope(const BodyInfo& body, const Source& source, double motion_x = 0);
+
+// The slope formed by several bodies together: the upper envelope of their outer loops
+// (slope_profile over loops); one body: exactly as above.
+AnalysedSlope analysed_slope(const Model& model, const AnalysedBodies& bodies, const Source& source,
+                             double motion_x = 0);
 
 // The positions of the particles `which` of `all`, taken into the canonical frame.
 std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector2d>& all,
@@ -56,5 +73,29 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const So
 // the table and the table's pore pressures on the slice bases (WaterTableSoil), the table at t = 0.
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Material& material, double gravity,
                                             const WaterSettings& water);
+
+// The surface loads of the analysed bodies' particles (scene frame): Bishop puts their vertical
+// components on the slices, each spread over `spacing` (the particle spacing) of x.
+struct GroundLoads {
+  std::vector<Eigen::Vector2d> position;  // m
+  std::vector<Eigen::Vector2d> force;     // N per m, at full load
+  double spacing = 0;                     // m
+};
+// The particles of `bodies` with a non-zero force (`load_force` may be empty: no loads).
+GroundLoads ground_loads(const AnalysedBodies& bodies, const std::vector<Eigen::Vector2d>& position,
+                         const std::vector<Eigen::Vector2d>& load_force, const std::vector<double>& volume);
+
+// Bishop's critical circle on the analysed bodies with the model's gravity and water table and
+// the loads: one body without loads is the single-soil case above; several bodies or loads
+// take LayeredGround (slice_model.hpp), each slice's weight from the bodies it crosses and its
+// base strength from the body under it. Throws (located at `source`) when a body's material
+// is not Mohr-Coulomb.
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Model& model,
+                                            const AnalysedBodies& bodies, const GroundLoads& loads,
+                                            const Source& source);
+
+// The LayeredGround of the analysed bodies in the slope's canonical frame.
+LayeredGround layered_ground(const AnalysedSlope& slope, const Model& model, const AnalysedBodies& bodies,
+                             const GroundLoads& loads);
 
 }  // namespace talus::postproc

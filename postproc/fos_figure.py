@@ -19,12 +19,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
-def outline_top(outline, x):
-    """Height of the outline's highest edge over each x (NaN outside it): the ground surface."""
-    pts = np.array(outline)
-    a, b = pts, np.roll(pts, -1, axis=0)
+def outline_top(outlines, x):
+    """Height of the outlines' highest edge over each x (NaN outside them): the ground surface."""
+    edges = []
+    for outline in outlines:
+        pts = np.array(outline)
+        edges += list(zip(pts, np.roll(pts, -1, axis=0)))
     top = np.full(len(x), np.nan)
-    for (x0, y0), (x1, y1) in zip(a, b):
+    for (x0, y0), (x1, y1) in edges:
         if x1 == x0:
             continue
         t = (x - x0) / (x1 - x0)
@@ -34,12 +36,12 @@ def outline_top(outline, x):
     return top
 
 
-def arc_inside(circle, outline, samples=721):
+def arc_inside(circle, outlines, samples=721):
     """Points of the circle's lower half under the ground surface (the slip arc)."""
     theta = np.linspace(np.pi, 2 * np.pi, samples)
     x = circle["xc_m"] + circle["r_m"] * np.cos(theta)
     y = circle["yc_m"] + circle["r_m"] * np.sin(theta)
-    keep = y <= outline_top(outline, x) + 1e-9
+    keep = y <= outline_top(outlines, x) + 1e-9
     return np.where(keep, x, np.nan), np.where(keep, y, np.nan)
 
 
@@ -52,8 +54,10 @@ def main():
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.8), gridspec_kw={"width_ratios": [1.7, 1]})
 
-    outline = np.array(fos["body_outline"] + [fos["body_outline"][0]])
-    ax.plot(outline[:, 0], outline[:, 1], color="0.3", lw=1)
+    outlines = fos.get("body_outlines") or [fos["body_outline"]]
+    for points in outlines:
+        outline = np.array(points + [points[0]])
+        ax.plot(outline[:, 0], outline[:, 1], color="0.3", lw=1)
     particles = os.path.join(args.out, "fos_particles.csv")
     if os.path.exists(particles):
         data = np.loadtxt(particles, delimiter=",", skiprows=1, ndmin=2)
@@ -63,10 +67,10 @@ def main():
         line = np.array(fos["slip_surface"])
         ax.plot(line[:, 0], line[:, 1], color="crimson", lw=2.2, label="MPM slip surface (first failing F)")
     if fos.get("slip_circle"):
-        x, y = arc_inside(fos["slip_circle"], fos["body_outline"])
+        x, y = arc_inside(fos["slip_circle"], outlines)
         ax.plot(x, y, color="crimson", lw=1, ls="--", label="circle fitted to it")
     if fos.get("bishop_circle"):
-        x, y = arc_inside(fos["bishop_circle"], fos["body_outline"])
+        x, y = arc_inside(fos["bishop_circle"], outlines)
         ax.plot(x, y, color="darkorange", lw=1.8, ls=":", label=f"Bishop critical circle, F = {fos['bishop_fos']:.3f}")
     m = fos["monitoring_point"]
     ax.plot([m["x_m"]], [m["y_m"]], marker="*", ms=12, color="k", ls="none", label="monitoring point")

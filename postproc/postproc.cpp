@@ -61,42 +61,43 @@ struct Metrics {
 
   bool bishop_done = false;
   std::optional<BishopResult> bishop;
-  SoilStrength soil;
+  std::vector<std::pair<std::string, SoilStrength>> layers;  // per analysed body
+  double surcharge = 0;  // N/m, the loads' total downward force on the analysed bodies
 
   std::optional<SpringMassCheck> spring;
   std::optional<BoxInclineCheck> box;
   double box_friction = 0;
 };
 
-void slope_metrics(const Results& results, const AnalysedBody& body, const std::string& file, Metrics& m) {
+void slope_metrics(const Results& results, const AnalysedBodies& ground, const std::string& file, Metrics& m) {
   const PostSettings& post = results.metadata.post;
-  const BodyInfo& info = results.metadata.bodies[body.index];
   double motion_x = 0;  // which way a level-topped body (a column) ran out
-  for (std::size_t p : body.particles) motion_x += results.position.back()[p].x() - results.initial_position[p].x();
-  const AnalysedSlope slope = analysed_slope(info, {file}, motion_x / static_cast<double>(body.particles.size()));
+  for (std::size_t p : ground.particles) motion_x += results.position.back()[p].x() - results.initial_position[p].x();
+  const AnalysedSlope slope =
+      analysed_slope(results.metadata, ground, {file}, motion_x / static_cast<double>(ground.particles.size()));
   m.mirror = slope.mirror;
   m.profile = slope.profile;
   const SlopeProfile& profile = *m.profile;
   m.sliding_threshold = post.sliding_threshold * profile.height;
 
   std::vector<double> volume;
-  for (std::size_t p : body.particles) volume.push_back(results.volume[p]);
+  for (std::size_t p : ground.particles) volume.push_back(results.volume[p]);
   const ColumnRule rule = column_rule_for(volume);
   m.column_width = rule.width;
-  const auto x0 = canonical_positions(results.initial_position, body.particles, m.mirror);
-  const auto x1 = canonical_positions(results.position.back(), body.particles, m.mirror);
+  const auto x0 = canonical_positions(results.initial_position, ground.particles, m.mirror);
+  const auto x1 = canonical_positions(results.position.back(), ground.particles, m.mirror);
 
   if (wants(post, "runout")) {
     m.runout = runout_metrics(profile, x0, x1, m.sliding_threshold, rule);
     m.time_to_rest = time_to_rest(results.history_time, results.kinetic_energy);
     for (std::size_t f = 0; f < results.frames(); ++f) {
       std::vector<Eigen::Vector2d> v;
-      for (std::size_t p : body.particles) {
+      for (std::size_t p : ground.particles) {
         const Eigen::Vector2d& velocity = results.velocity[f][p];
         v.emplace_back(m.mirror.x(velocity.x()), velocity.y());
       }
       const DepositFront front =
-          deposit_front(canonical_positions(results.position[f], body.particles, m.mirror), v, profile.surface, rule);
+          deposit_front(canonical_positions(results.position[f], ground.particles, m.mirror), v, profile.surface, rule);
       m.front_x.push_back(m.mirror.x(front.found ? front.tip.x() : profile.toe.x()));
       m.front_velocity.push_back(front.found ? front.velocity : 0.0);
     }
@@ -110,13 +111,13 @@ void slope_metrics(const Results& results, const AnalysedBody& body, const std::
     m.slip_circle_rms = slip.circle_rms;
     m.failure_surface = std::move(slip.surface);
     std::vector<std::vector<Eigen::Vector2d>> frames;
-    for (const auto& frame : results.position) frames.push_back(canonical_positions(frame, body.particles, m.mirror));
+    for (const auto& frame : results.position) frames.push_back(canonical_positions(frame, ground.particles, m.mirror));
     const auto onset = onset_frame(frames, x0, m.sliding_threshold);
     if (onset) {
       m.onset_time = results.frame_time[*onset];
       if (!results.plastic_strain.empty()) {
         std::vector<double> strain;
-        for (std::size_t p : body.particles) strain.push_back(results.plastic_strain[*onset][p]);
+        for (std::size_t p : ground.particles) strain.push_back(results.plastic_strain[*onset][p]);
         m.shear_band = m.mirror.polyline(shear_band(x0, strain, rule.width));
       }
     }
@@ -124,13 +125,15 @@ void slope_metrics(const Results& results, const AnalysedBody& body, const std::
 
   if (wants(post, "bishop")) {
     m.bishop_done = true;
-    const Material& material = results.metadata.materials[info.material];
-    if (material.model != MaterialModel::MohrCoulomb)
-      throw Error(located(file, "materials/" + material.name,
-                          "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle)"));
+    const GroundLoads loads = ground_loads(ground, results.initial_position, results.load_force, results.volume);
+    m.bishop = critical_circle(slope, results.metadata, ground, loads, {file});
     const double gravity = results.metadata.run.gravity.norm();
-    m.soil = {material.cohesion, material.friction_angle, material.density * gravity};
-    m.bishop = critical_circle(slope, material, gravity, results.metadata.water);
+    for (int index : ground.indices) {
+      const BodyInfo& info = results.metadata.bodies[index];
+      const Material& material = results.metadata.materials[info.material];
+      m.layers.push_back({info.name, {material.cohesion, material.friction_angle, material.density * gravity}});
+    }
+    for (const auto& f : loads.force) m.surcharge -= f.y();
   }
 }
 
@@ -160,12 +163,17 @@ void write_point(JsonWriter& json, const std::string& key, const Eigen::Vector2d
   json.key(key).begin_array().value(p.x()).value(p.y()).end_array();
 }
 
-std::string metrics_json(const Results& results, const AnalysedBody& body, const std::string& results_path,
-                         const Metrics& m) {
+std::string metrics_json(const Results& results, const AnalysedBody& body, const AnalysedBodies& ground,
+                         const std::string& results_path, const Metrics& m) {
   JsonWriter json;
   json.begin_object();
   json.key("scene").value(results.metadata.scene_name);
   json.key("body").value(results.metadata.bodies[body.index].name);
+  if (!results.metadata.post.bodies.empty()) {
+    json.key("bodies").begin_array();
+    for (int index : ground.indices) json.value(results.metadata.bodies[index].name);
+    json.end_array();
+  }
   json.key("results_file").value(results_path);
   json.key("frames").value(static_cast<long>(results.frames()));
   json.key("end_time_s").value(results.frame_time.back());
@@ -201,11 +209,25 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
   }
   if (m.bishop_done) {
     write_bishop_keys(json, m.bishop);
-    json.key("bishop_soil").begin_object()
-        .key("cohesion_Pa").value(m.soil.cohesion)
-        .key("friction_angle_deg").value(m.soil.friction_angle)
-        .key("unit_weight_N_m3").value(m.soil.unit_weight)
-        .end_object();
+    const auto soil = [&json](const SoilStrength& s) {
+      json.key("cohesion_Pa").value(s.cohesion)
+          .key("friction_angle_deg").value(s.friction_angle)
+          .key("unit_weight_N_m3").value(s.unit_weight);
+    };
+    if (m.layers.size() == 1) {
+      json.key("bishop_soil").begin_object();
+      soil(m.layers.front().second);
+      json.end_object();
+    } else {
+      json.key("bishop_layers").begin_array();
+      for (const auto& [name, strength] : m.layers) {
+        json.begin_object().key("body").value(name);
+        soil(strength);
+        json.end_object();
+      }
+      json.end_array();
+    }
+    if (!results.load_force.empty()) json.key("bishop_surcharge_N_m").value(m.surcharge);
     write_water_keys(json, results.metadata.water);
   }
   if (m.spring) {
@@ -287,15 +309,16 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
       throw Error(located(results_path, "settings/post/metrics",
                           "unknown metric '" + metric + "' (expected runout, failure_surface, bishop, spring_mass or box_incline)"));
   const AnalysedBody body = analysed_body(results.metadata, results.body, {results_path});
+  const AnalysedBodies ground = analysed_bodies(results.metadata, results.body, {results_path});
 
   Metrics m;
-  if (wants(post, "runout") || wants(post, "failure_surface") || wants(post, "bishop"))
-    slope_metrics(results, body, results_path, m);
+  const bool slope = wants(post, "runout") || wants(post, "failure_surface") || wants(post, "bishop");
+  if (slope) slope_metrics(results, ground, results_path, m);
   validation_metrics(results, body, m);
 
   fs::create_directories(out_dir);
   const fs::path out(out_dir);
-  write_file_atomically((out / "metrics.json").string(), metrics_json(results, body, results_path, m));
+  write_file_atomically((out / "metrics.json").string(), metrics_json(results, body, ground, results_path, m));
   write_csv((out / "energy.csv").string(), {"time_s", "kinetic_J", "potential_J", "strain_J"},
             {results.history_time, results.kinetic_energy, results.potential_energy, results.strain_energy});
   if (m.runout)
@@ -308,8 +331,10 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
     write_csv((out / "box_incline.csv").string(), {"time_s", "mpm_m", "exact_m"},
               {m.box->time, m.box->along_slope, m.box->exact});
 
-  log << "talus post: " << results.metadata.scene_name << ", body '" << results.metadata.bodies[body.index].name
-      << "', " << results.frames() << " frames to t = " << format(results.frame_time.back(), 3, " s") << "\n";
+  log << "talus post: " << results.metadata.scene_name << ", "
+      << (slope && ground.indices.size() > 1 ? "bodies " + body_names(results.metadata, ground)
+                                             : "body '" + results.metadata.bodies[slope ? ground.indices.front() : body.index].name + "'")
+      << ", " << results.frames() << " frames to t = " << format(results.frame_time.back(), 3, " s") << "\n";
   if (!results.complete) log << "  note: the run did not complete; metrics are of its last frame\n";
   print_summary(m, log);
   log << "  wrote " << (out / "metrics.json").string() << " and CSV histories\n";

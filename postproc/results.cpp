@@ -71,6 +71,13 @@ Results read_results(const std::string& path) {
   }
   results.mass = read_vector(file, "particles/mass", n);
   results.volume = read_vector(file, "particles/volume", n);
+  if (h5::exists(file, "particles/load_force")) {
+    h5::Dims dims;
+    const std::vector<double> flat = h5::read_doubles(file, "particles/load_force", &dims);
+    if (dims.size() != 2 || dims[0] != n || dims[1] != 2)
+      throw Error(located(path, "particles/load_force", "expected shape [" + std::to_string(n) + ",2]"));
+    results.load_force = as_points(flat, 1, n).front();
+  }
 
   h5::Dims time_dims;
   results.frame_time = h5::read_doubles(file, "frames/time", &time_dims);
@@ -100,6 +107,7 @@ void write_results(const std::string& path, const Results& results) {
     write_results_start(file, results.metadata, results.initial_position, results.body, results.mass,
                         results.volume);
     const hsize_t f = results.frames(), n = results.particles();
+    if (!results.load_force.empty()) h5::write(file, "particles/load_force", talus::flatten(results.load_force), {n, 2});
     h5::write(file, "frames/time", results.frame_time, {f});
     h5::write(file, "frames/position", flatten(results.position), {f, n, 2});
     h5::write(file, "frames/velocity", flatten(results.velocity), {f, n, 2});

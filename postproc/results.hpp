@@ -23,6 +23,8 @@ struct Results {
   std::vector<int32_t> body;    // [N] index into metadata.bodies
   std::vector<double> mass;     // kg per m [N]
   std::vector<double> volume;   // m^2 (initial) [N]
+  // Surface-load force of each particle at full load (N/m) [N]; empty when the scene has no loads.
+  std::vector<Eigen::Vector2d> load_force;
 
   std::vector<double> history_time, kinetic_energy, potential_energy, strain_energy;  // s, J per m
 

@@ -4,9 +4,12 @@
 // these and never looks at soil properties itself, so a layered ground, a water table or a
 // surcharge is another SliceModel and the same circle search serves it.
 #pragma once
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <utility>
+#include <vector>
 
 namespace talus::postproc {
 
@@ -74,6 +77,45 @@ class WaterTableSoil final : public SliceModel {
   SoilStrength soil_;
   double tan_phi_, saturated_, water_;
   Table table_;
+};
+
+// One body of a layered ground (canonical frame): its outline loops (a point is in the body
+// when it lies inside an odd number of them), its strength and unit weights.
+struct GroundLayer {
+  std::vector<std::vector<Eigen::Vector2d>> loops;  // m
+  SoilStrength soil;
+  double saturated_unit_weight = 0;  // N/m^3, below the water table (without a table: unused)
+};
+
+// A force on the ground surface (a surface load carried by one particle, canonical frame),
+// spread evenly over `width` of x centred on x.
+struct SurfaceForce {
+  double x = 0;         // m
+  double downward = 0;  // N per m of thickness, the force's vertical component, positive down
+};
+
+// Several soils (a layered slope, a weak layer, a body on another) with an optional water table
+// and surface loads. Along the vertical through the slice's middle, the column from the slip
+// surface up to the ground weighs the unit weight of each body it crosses over the length it
+// crosses (gamma above the table, gamma_sat below it); empty space weighs nothing. The base
+// takes c' and phi' of the body just above the base point (where two bodies meet there, the
+// upper one: the slip surface runs in it), else of the body nearest the point along the
+// vertical. The pore pressure is the table's, u = gamma_w max(0, h(x) - bottom). A surface
+// force adds its vertical component to the slices under it, in proportion to the overlap of
+// its spread with the slice; horizontal components are left out (a pressure on a level crest
+// has none).
+class LayeredGround final : public SliceModel {
+ public:
+  LayeredGround(std::vector<GroundLayer> layers, std::vector<SurfaceForce> loads = {}, double load_width = 0,
+                double water_unit_weight = 0, std::function<double(double)> table = {});
+  SliceForces forces(const Slice& slice) const override;
+
+ private:
+  std::vector<GroundLayer> layers_;
+  std::vector<double> tan_phi_;
+  std::vector<SurfaceForce> loads_;
+  double load_width_, water_;
+  std::function<double(double)> table_;
 };
 
 }  // namespace talus::postproc

@@ -36,6 +36,22 @@ bool descends_to_left(const Polyline& loop, double motion_x = 0);
 // when the upper boundary overhangs.
 SlopeProfile slope_profile(const Polyline& loop, bool level_top_runs_out = false);
 
+// The upper boundary of a loop (a simple polygon), x increasing; see slope_profile.
+Polyline upper_boundary(Polyline loop);
+
+// The ground of several bodies together (a layered slope): at every x the highest of the
+// loops' upper boundaries that reach that x, x increasing, with two points at one x where it
+// steps (a cliff, or the side of a body standing on another). One loop: its upper boundary.
+// Throws talus::Error where no loop covers an x between the leftmost and the rightmost point.
+Polyline upper_envelope(const std::vector<Polyline>& loops);
+
+// The profile of the ground formed by the outer loops of several bodies (upper_envelope),
+// the base the lowest point of any of them. One loop: slope_profile(loop, ...) exactly.
+SlopeProfile slope_profile(const std::vector<Polyline>& loops, bool level_top_runs_out = false);
+
+// descends_to_left for the upper envelope of several loops.
+bool descends_to_left(const std::vector<Polyline>& loops, double motion_x = 0);
+
 // True when the surface has a vertical face (two points at one x): a method of slices needs
 // the ground as a function of x.
 bool has_vertical_face(const Polyline& surface);

@@ -65,6 +65,8 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
     std::vector<int32_t> material(particles_);
     for (std::size_t p = 0; p < particles_; ++p) material[p] = model.bodies[model.body[p]].material;
     h5::write(file_, "particles/material", material, {particles_});
+    if (!model.loads.empty())
+      h5::write(file_, "particles/load_force", flatten(particle_load_forces(model)), {particles_, 2});
     write_xdmf_vertices(file_, particles_);
     open_datasets(0, 0, true);
     h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(0));

@@ -39,13 +39,7 @@ Particles particles_of(const Model& model, const Config& config) {
   std::iota(P.id.begin(), P.id.end(), 0);
   if (!model.loads.empty()) {  // the force at full load: pressure along the inward normal, or traction x length
     P.load = model.load;
-    P.load_force.resize(n);
-    for (std::size_t p = 0; p < n; ++p) {
-      const int32_t L = P.load[p];
-      P.load_force[p] = L < 0                          ? Vec2::Zero()
-                        : model.loads[L].pressure      ? Vec2(-*model.loads[L].pressure * model.load_normal[p])
-                                                       : Vec2(model.load_length[p] * *model.loads[L].traction);
-    }
+    P.load_force = particle_load_forces(model);
   }
   for (std::size_t p = 0; p < n; ++p) {
     const int32_t e = locate(config.mesh, P.element[p], P.x[p]);

@@ -187,6 +187,64 @@ TEST(RunPost, MirroredSlopeGivesMirroredMetrics) {
   EXPECT_NEAR(number(left, "xc_m", "bishop_circle"), -number(right, "xc_m", "bishop_circle"), 1e-6);
 }
 
+// The same slide as two bodies of one soil (docs/layered.md): a foundation layer below y = 5 and
+// the slope above it, both listed in post.bodies. The ground, the runout, the sliding mass and
+// Bishop's factor are those of the one body; mirrored too. A load on the crest goes on
+// Bishop's slices and lowers F.
+Results two_layer_slide(bool mirrored) {
+  Results r = rotational_slide(mirrored);
+  const double side = mirrored ? -1 : 1;
+  BodyInfo slope = r.metadata.bodies[0], foundation = r.metadata.bodies[0];
+  slope.loops = {{}};
+  for (const auto& p : Polyline{{0, 5}, {30, 5}, {20, 15}, {0, 15}}) slope.loops[0].emplace_back(side * p.x(), p.y());
+  foundation.name = "foundation";
+  foundation.loops = {{}};
+  for (const auto& p : Polyline{{0, 0}, {60, 0}, {60, 5}, {30, 5}, {0, 5}})
+    foundation.loops[0].emplace_back(side * p.x(), p.y());
+  r.metadata.bodies = {slope, foundation};
+  r.metadata.post.bodies = {"slope", "foundation"};
+  for (std::size_t p = 0; p < r.body.size(); ++p) r.body[p] = r.initial_position[p].y() < 5 ? 1 : 0;
+  return r;
+}
+
+TEST(RunPost, TwoLayersOfOneSoilGiveTheOneBodysMetrics) {
+  testing::ScratchDir dir("postproc-layers");
+  PostOptions no_figures;
+  no_figures.figures = false;
+  std::ostringstream log;
+  write_results(dir.file("one.h5"), rotational_slide(false));
+  run_post(dir.file("one.h5"), dir.file("one"), log, no_figures);
+  const std::string one = read_text(dir.file("one/metrics.json"));
+  for (bool mirrored : {false, true}) {
+    const std::string name = mirrored ? "left" : "right";
+    write_results(dir.file(name + ".h5"), two_layer_slide(mirrored));
+    run_post(dir.file(name + ".h5"), dir.file(name), log, no_figures);
+    const std::string two = read_text(dir.file(name + "/metrics.json"));
+    EXPECT_NE(two.find("\"bodies\": [\"slope\", \"foundation\"]"), std::string::npos) << two;
+    EXPECT_NE(two.find("\"bishop_layers\""), std::string::npos);
+    for (const char* key : {"slope_height_m", "runout_distance_m", "crest_retreat_m", "travel_angle_deg",
+                            "failed_area_m2", "r_m"})
+      EXPECT_NEAR(number(two, key), number(one, key), 1e-9) << key << (mirrored ? " (mirrored)" : "");
+    EXPECT_NEAR(number(two, "bishop_fos"), number(one, "bishop_fos"), 1e-6 * number(one, "bishop_fos"));
+  }
+  EXPECT_NE(log.str().find("bodies slope and foundation"), std::string::npos) << log.str();
+
+  // 20 kPa on the crest between x = 10 and 20 m, carried by the top row of particles there.
+  Results loaded = two_layer_slide(false);
+  loaded.load_force.assign(loaded.particles(), Eigen::Vector2d::Zero());
+  double total = 0;
+  for (std::size_t p = 0; p < loaded.particles(); ++p) {
+    const auto& x = loaded.initial_position[p];
+    if (x.x() > 10 && x.x() < 20 && x.y() > 15 - kSpacing) loaded.load_force[p] = {0, -20e3 * kSpacing}, total += 20e3 * kSpacing;
+  }
+  write_results(dir.file("loaded.h5"), loaded);
+  run_post(dir.file("loaded.h5"), dir.file("loaded"), log, no_figures);
+  const std::string json = read_text(dir.file("loaded/metrics.json"));
+  EXPECT_NEAR(number(json, "bishop_surcharge_N_m"), total, 1e-6);
+  EXPECT_NEAR(total, 20e3 * 10, 1e-6);
+  EXPECT_LT(number(json, "bishop_fos"), number(one, "bishop_fos") - 0.01);
+}
+
 TEST(RunPost, SpringMassAgainstItsAnalyticalSolution) {
   testing::ScratchDir dir("postproc-spring");
   Results r;

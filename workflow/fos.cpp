@@ -32,7 +32,7 @@ using Vec2 = Eigen::Vector2d;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The monitoring point: the body's particle nearest the middle of the slope face.
-int32_t monitoring_particle(const postproc::AnalysedSlope& slope, const postproc::AnalysedBody& body,
+int32_t monitoring_particle(const postproc::AnalysedSlope& slope, const postproc::AnalysedBodies& body,
                             const Model& model) {
   const double x = 0.5 * (slope.profile.crest.x() + slope.profile.toe.x());
   const Vec2 target(x, postproc::surface_height(slope.profile.surface, x));
@@ -52,7 +52,7 @@ std::vector<Vec2> equilibrium_positions(const solver::Simulation& sim) {
 // The postproc's extraction on the displacements of the failing trial from equilibrium, drawn
 // in the initial configuration. Threshold: half the smaller of the displacement limit and the
 // monitoring point's displacement (a trial failed by its step budget may have moved less).
-FosSlip slip_of(const postproc::AnalysedSlope& slope, const postproc::AnalysedBody& body, const Model& model,
+FosSlip slip_of(const postproc::AnalysedSlope& slope, const postproc::AnalysedBodies& body, const Model& model,
                 const std::vector<Vec2>& x_eq, const solver::TrialOutcome& failing, double limit) {
   FosSlip out;
   out.threshold = 0.5 * std::min(limit, failing.monitor_displacement);
@@ -99,14 +99,20 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   const FolderLock lock(out.string());
   const Model model = preproc::build_model(scene);
   const postproc::Source source{scene.path, true, "fos needs"};
-  const postproc::AnalysedBody body = postproc::analysed_body(model, model.body, source);
-  const postproc::AnalysedSlope slope = postproc::analysed_slope(model.bodies[body.index], source);
-  const Material& material = model.materials[model.bodies[body.index].material];
-  if (material.model != MaterialModel::MohrCoulomb)
-    throw Error(located(scene.path, "materials." + material.name, "fos needs a Mohr-Coulomb material"));
+  const postproc::AnalysedBodies body = postproc::analysed_bodies(model, model.body, source);
+  const postproc::AnalysedSlope slope = postproc::analysed_slope(model, body, source);
+  for (int index : body.indices) {
+    const Material& material = model.materials[model.bodies[index].material];
+    if (material.model != MaterialModel::MohrCoulomb)
+      throw Error(located(scene.path, "materials." + material.name,
+                          "fos needs a Mohr-Coulomb material (body '" + model.bodies[index].name + "')"));
+  }
 
-  const std::optional<postproc::BishopResult> bishop =
-      postproc::critical_circle(slope, material, scene.run.gravity.norm(), model.water);
+  const postproc::GroundLoads loads =
+      postproc::ground_loads(body, model.position, particle_load_forces(model), model.volume);
+  double surcharge = 0;
+  for (const auto& f : loads.force) surcharge -= f.y();
+  const std::optional<postproc::BishopResult> bishop = postproc::critical_circle(slope, model, body, loads, source);
 
   solver::ReductionProblem problem;
   problem.model = &model;
@@ -146,8 +152,9 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
     slip = slip_of(slope, body, model, equilibrium_positions(equilibrium.sim), search.trials[search.upper_trial],
                    problem.settings.displacement_limit * problem.height);
 
-  const FosReport report{scene,  model,  body.index, problem, equilibrium, search, bishop, slip ? &*slip : nullptr,
-                         tolerance, period, search_seconds, equilibrium_seconds, threads};
+  const FosReport report{scene,     model,  body.indices, problem,        equilibrium,         search, bishop,
+                         surcharge, slip ? &*slip : nullptr, tolerance, period, search_seconds, equilibrium_seconds,
+                         threads};
   postproc::write_file_atomically((out / "fos.json").string(), fos_json(report));
   if (slip) {
     std::vector<double> x, y;

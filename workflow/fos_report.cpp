@@ -90,7 +90,14 @@ std::string fos_json(const FosReport& r) {
   }
   postproc::write_bishop_keys(json, r.bishop);
   postproc::write_water_keys(json, r.model.water);
-  json.key("body_outline").value(postproc::outer_loop(r.model.bodies[r.body].loops));
+  if (!r.model.loads.empty()) json.key("bishop_surcharge_N_m").value(r.surcharge);
+  json.key("bodies").begin_array();
+  for (int b : r.bodies) json.value(r.model.bodies[b].name);
+  json.end_array();
+  json.key("body_outline").value(postproc::outer_loop(r.model.bodies[r.bodies.front()].loops));
+  json.key("body_outlines").begin_array();
+  for (int b : r.bodies) json.value(postproc::outer_loop(r.model.bodies[b].loops));
+  json.end_array();
   json.end_object();
   return json.text();
 }

@@ -23,11 +23,12 @@ struct FosSlip {
 struct FosReport {
   const Scene& scene;
   const Model& model;
-  int body;  // the analysed body, index into model.bodies
+  std::vector<int> bodies;  // the analysed bodies (post.bodies, else post.body), indices into model.bodies
   const solver::ReductionProblem& problem;
   const solver::EquilibriumState& equilibrium;
   const solver::SearchResult& search;
   const std::optional<postproc::BishopResult>& bishop;
+  double surcharge;  // N/m, the loads' total downward force on the analysed bodies (Bishop's)
   const FosSlip* slip;  // null when no trial failed (the failing bound was known beforehand)
   double tolerance, period, search_seconds, equilibrium_seconds;
   int workers;
