@@ -39,6 +39,7 @@ class ResultsWriter {
   // reached its end, 0 for one stopped by an error), and flushes.
   void finish(long steps, double loop_seconds, bool complete);
   const std::string& path() const { return path_; }
+  const std::string& xdmf_path() const { return xdmf_path_; }
   long frames() const { return static_cast<long>(time_.size()); }
 
  private:
