@@ -77,7 +77,6 @@ class ResultsWriter {
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
       pending_particle_kinetic_;
   std::vector<double> scratch_;
-  std::vector<Eigen::Vector2d> displacement_;
 };
 
 }  // namespace talus::solver
