@@ -8,6 +8,7 @@
 #include "app/cli.hpp"
 #include "common/error.hpp"
 #include "postproc/figure_script.hpp"
+#include "solver/parallel.hpp"
 #include "solver/solver.hpp"
 #include "workflow/converge.hpp"
 #include "workflow/fos.hpp"
@@ -50,7 +51,8 @@ Options:
                     --set run.end_time=2.0  --set contact.friction=0.4
   --out DIR         output folder (default out/<scene name>/)
   --quiet, -q       no progress output
-  --threads N       OpenMP threads for the solver (default: all cores)
+  --threads N       OpenMP threads for the solver (default: chosen from the
+                    particle count and the cores, stated in the summary line)
   --checkpoint-interval T
                     solve, run: write DIR/checkpoint.h5 every T s of simulated
                     time (default 0: only when interrupted)
@@ -161,6 +163,7 @@ int run_command(const cli::Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  solver::bound_openmp_spin(argv);
   try {
     const cli::Arguments args = cli::parse(argc, argv);
     if (args.threads > 0) omp_set_num_threads(args.threads);

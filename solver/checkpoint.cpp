@@ -97,12 +97,16 @@ std::string checkpoint_path(const std::string& out_dir) {
 
 void write_checkpoint(const std::string& out_dir, const Model& model, const Simulation& sim, const LoopState& loop,
                       const ResultsPosition& results) {
+  write_checkpoint(out_dir, model_fingerprints(model), sim, loop, results);
+}
+
+void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Simulation& sim,
+                      const LoopState& loop, const ResultsPosition& results) {
   const std::string path = checkpoint_path(out_dir);
   h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
     h5::create_group(file, kFingerprintGroup);
-    for (const auto& [section, value] : model_fingerprints(model))
-      h5::set_attribute(file, kFingerprintGroup, section, value);
+    for (const auto& [section, value] : fingerprints) h5::set_attribute(file, kFingerprintGroup, section, value);
 
     const Particles& P = sim.particles;
     const std::size_t n = P.size();

@@ -42,6 +42,10 @@ std::string checkpoint_path(const std::string& out_dir);
 
 void write_checkpoint(const std::string& out_dir, const Model& model, const Simulation& sim, const LoopState& loop,
                       const ResultsPosition& results);
+// The same with the model's fingerprints taken before (the model may have given up its particles).
+using Fingerprints = std::vector<std::pair<std::string, int64_t>>;
+void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Simulation& sim,
+                      const LoopState& loop, const ResultsPosition& results);
 
 // Overwrites the particles, time and step count of `sim` (built by make_simulation from the
 // same model) with the checkpoint's, and fills `loop` and `results`. Throws talus::Error when

@@ -7,9 +7,45 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace talus::solver {
+
+// ---- How many threads a solve uses (parallel.cpp) ---------------------------------------------
+
+// Below this many particles per thread a second thread costs more at the step's barriers than
+// it saves (measured on 2 cores, docs/benchmarks.md "Thread choice"): the automatic choice
+// gives every thread at least this many particles.
+inline constexpr long kParticlesPerThread = 12000;
+
+// The cores this process may run on: the CPUs of its affinity mask (sched_getaffinity), else
+// std::thread::hardware_concurrency, at least 1.
+int available_cores();
+
+struct ThreadChoice {
+  int threads = 1;
+  std::string why;  // for the summary line: "auto: 48,812 particles, 2 cores" or "--threads"
+};
+
+// `requested` > 0 is the user's count (--threads) and wins. Otherwise the count follows the
+// problem size: particles / kParticlesPerThread, at least 1, at most the cores available
+// (the affinity mask; OMP_NUM_THREADS when set in the environment; omp_set_num_threads when
+// called with fewer).
+ThreadChoice choose_threads(long particles, int requested);
+
+// OpenMP threads that wait at the end of a loop spin first (libgomp: about 300,000 spins, a
+// few ms) and then sleep. When other programs hold the cores, a thread spinning for a
+// descheduled partner burns the time that partner needs: a 2-thread solve took 12x its quiet
+// time with one busy program per core, and up to 20x under the build load of this machine.
+// A spin of kSpinCount (a few microseconds) then sleeping loses little on a quiet machine
+// and yields the core at once under load (docs/benchmarks.md, "Under load"). libgomp reads
+// its settings when it is loaded, before main, so this starts the program again (execv of
+// /proc/self/exe with the same arguments) with GOMP_SPINCOUNT set. A user's OMP_WAIT_POLICY
+// or GOMP_SPINCOUNT is left alone, and so is a process where /proc/self/exe cannot be run.
+// Call it first thing in main.
+inline constexpr const char* kSpinCount = "300";
+void bound_openmp_spin(char** argv);
 
 // Thread t's share [begin, end) of [0, n) when split into `threads` contiguous chunks.
 inline void chunk_of(long n, int threads, int t, long& begin, long& end) {

@@ -175,12 +175,15 @@ void ResultsWriter::write_frame_data(const Simulation& sim) {
   time_set_.append(&sim.time);
   auto set = frame_sets_.begin();
   append(*set++, grid_velocity_at_particles(sim));
-  displacement_.resize(P.size());
-  for (std::size_t p = 0; p < P.size(); ++p) displacement_[p] = P.x[p] - initial_position_[P.id[p]];
-  append(*set++, displacement_);
+  // The displacement goes straight into the frame buffer (no column of its own).
+  scratch_.assign(n * 2, 0.0);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int k = 0; k < 2; ++k) scratch_[P.id[p] * 2 + k] = P.x[p][k] - initial_position_[P.id[p]][k];
+  (set++)->data.append(scratch_.data());
   P.for_each_field([&](const FieldInfo& field, const auto& column) {
     if (field_written(field, water_)) append(*set++, column);
   });
+  std::vector<double>().swap(scratch_);  // 8 bytes per particle and column: not kept between frames
   time_.push_back(sim.time);
   write_frame_views(file_, n, time_.size() - 1, fields());
   flush_history();

@@ -39,6 +39,7 @@ class ResultsWriter {
   // reached its end, 0 for one stopped by an error), and flushes.
   void finish(long steps, double loop_seconds, bool complete);
   const std::string& path() const { return path_; }
+  const std::string& xdmf_path() const { return xdmf_path_; }
   long frames() const { return static_cast<long>(time_.size()); }
 
  private:
@@ -76,7 +77,6 @@ class ResultsWriter {
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
       pending_particle_kinetic_;
   std::vector<double> scratch_;
-  std::vector<Eigen::Vector2d> displacement_;
 };
 
 }  // namespace talus::solver

@@ -2,6 +2,7 @@
 // particles ordered by element.
 #include <algorithm>
 #include <numeric>
+#include <type_traits>
 
 #include "common/error.hpp"
 #include "solver/pore_pressure.hpp"
@@ -20,27 +21,34 @@ void resize_grid(Grid& grid, std::size_t nodes, bool contact, bool xpic) {
   if (xpic) grid.xpic_term.assign(nodes, Vec2::Zero());
 }
 
+// A copy of one of the model's particle columns, or, with `owned` (the same object as model,
+// handed over by its owner), the column itself.
+template <class T>
+std::vector<T> column_of(const Model& model, Model* owned, std::vector<T> Model::*column) {
+  return owned ? std::move(owned->*column) : model.*column;
+}
+
 // The particles of the model, in model order, each located in its element.
-Particles particles_of(const Model& model, const Config& config) {
+Particles particles_of(const Model& model, Model* owned, const Config& config) {
   Particles P;
   const std::size_t n = model.particle_count();
-  P.x = model.position;
-  P.v = model.velocity;
-  P.m = model.mass;
-  P.volume = model.volume;
-  P.sigma = model.stress;
+  if (!model.loads.empty()) {  // the force at full load: pressure along the inward normal, or traction x length
+    P.load = model.load;       // (before the columns move out: particle_count() reads position)
+    P.load_force = particle_load_forces(model);
+  }
+  P.x = column_of(model, owned, &Model::position);
+  P.v = column_of(model, owned, &Model::velocity);
+  P.m = column_of(model, owned, &Model::mass);
+  P.volume = column_of(model, owned, &Model::volume);
+  P.sigma = column_of(model, owned, &Model::stress);
   P.eps_p.assign(n, 0);
   for (const auto& material : config.materials) P.history_width = std::max(P.history_width, material.history_width);
   P.history.assign(n * static_cast<std::size_t>(P.history_width), 0);
   if (config.transfer == Transfer::Apic) P.C.assign(n, Vec4::Zero());  // uniform initial velocities
-  P.body = model.body;
-  P.element = model.element;
+  P.body = column_of(model, owned, &Model::body);
+  P.element = column_of(model, owned, &Model::element);
   P.id.resize(n);
   std::iota(P.id.begin(), P.id.end(), 0);
-  if (!model.loads.empty()) {  // the force at full load: pressure along the inward normal, or traction x length
-    P.load = model.load;
-    P.load_force = particle_load_forces(model);
-  }
   for (std::size_t p = 0; p < n; ++p) {
     const int32_t e = locate(config.mesh, P.element[p], P.x[p]);
     if (e < 0)
@@ -68,7 +76,11 @@ void permute_particles(Particles& particles, const std::vector<int32_t>& order) 
   particles.for_each_field([&](const FieldInfo&, auto& column) { permute_column(column, order); });
 }
 
-Simulation make_simulation(const Model& model, int threads) {
+namespace {
+
+// make_simulation; with `owned` (the same object as model) the model's particle columns are
+// moved into the simulation and its other per-particle columns released.
+Simulation build_simulation(const Model& model, Model* owned, int threads) {
   Simulation sim;
   Config& config = sim.config;
   config.mesh = build_mesh(model);
@@ -89,7 +101,8 @@ Simulation make_simulation(const Model& model, int threads) {
     config.material_of_body.push_back(body.material);
     config.body_fixed.push_back(body.fixed);
   }
-  sim.particles = particles_of(model, config);
+  sim.particles = particles_of(model, owned, config);
+  if (owned) release_particles(*owned);
   initial_pore_pressures(sim.particles, config, 0);
   reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, config.mesh, sim.particles.size());
   sort_particles(sim);
@@ -134,6 +147,26 @@ Simulation make_simulation(const Model& model, int threads) {
   }
   set_threads(sim, threads);
   return sim;
+}
+
+}  // namespace
+
+Simulation make_simulation(const Model& model, int threads) { return build_simulation(model, nullptr, threads); }
+
+Simulation make_simulation(Model&& model, int threads) { return build_simulation(model, &model, threads); }
+
+void release_particles(Model& model) {
+  auto release = [](auto& column) { std::decay_t<decltype(column)>().swap(column); };
+  release(model.position);
+  release(model.velocity);
+  release(model.volume);
+  release(model.mass);
+  release(model.stress);
+  release(model.body);
+  release(model.element);
+  release(model.load);
+  release(model.load_length);
+  release(model.load_normal);
 }
 
 void set_threads(Simulation& sim, int threads) {

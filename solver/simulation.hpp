@@ -51,6 +51,22 @@ struct EvsScratch {
   std::vector<double> node_strain, node_area;                       // [node]
 };
 
+// Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by
+// the throughput benchmark); when it is null step() reads no clock.
+struct PhaseTimes {
+  enum Phase {
+    Mark, ToGrid, GridAcceleration, Contact, GridVelocity, ParticleVelocity, Remap, Kinematics, Evs, Isolated,
+    Stresses, Relocate, Count
+  };
+  static constexpr const char* kNames[Count] = {
+      "mark_active_nodes",          "particles_to_grid", "update_grid_accelerations", "contact",
+      "lagrangian/xpic velocities", "update_particle_velocities", "remap_grid_velocities",
+      "update_particle_kinematics", "enhance_volumetric_strain", "find_isolated_particles",
+      "update_stresses",            "relocate_particles"};
+  double seconds[Count] = {};
+  long steps = 0;
+};
+
 // Reused every step; nothing in it carries over from one step to the next except the
 // stencil, which always matches the particles' current positions.
 struct Scratch {
@@ -65,6 +81,7 @@ struct Scratch {
   EvsScratch evs;
   std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
   std::vector<double> load_factor;     // this step's ramp factor per surface load
+  PhaseTimes* phase_times = nullptr;   // not owned; null: no timing
   // Problems found inside parallel loops, reported after them (-1: none).
   long bad_particle = -1;   // first particle with a non-finite state
   long lost_particle = -1;  // first particle that left the domain
@@ -82,6 +99,12 @@ struct Simulation {
 // Builds the simulation from a model: mesh geometry, constraints, materials, particles sorted
 // by element, the stencil, and buffers sized for `threads` threads (at least 1).
 Simulation make_simulation(const Model& model, int threads);
+// The same from a model its owner gives up: the particle columns move into the simulation
+// instead of being copied, and the model keeps none (release_particles), so that a large
+// model and its simulation are never both in memory. Its mesh, bodies and settings stay.
+Simulation make_simulation(Model&& model, int threads);
+// Frees the model's per-particle columns (particle_count() becomes 0).
+void release_particles(Model& model);
 
 // Re-sizes the per-thread buffers for another thread count (a copied simulation run on one
 // core, say). The physics is unchanged; sums may round differently.

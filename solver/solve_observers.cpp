@@ -67,9 +67,9 @@ void ProgressLine::done() {
   shown_ = false;
 }
 
-Checkpointer::Checkpointer(const std::string& out_dir, const Model& model, ResultsWriter& writer, LoopState& loop,
-                           double interval, double tolerance, double time)
-    : out_dir_(out_dir), model_(model), writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {
+Checkpointer::Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter& writer,
+                           LoopState& loop, double interval, double tolerance, double time)
+    : out_dir_(out_dir), fingerprints_(std::move(fingerprints)), writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {
   // Periodic checkpoints at multiples of the interval; they change what is on disk, not the run.
   loop_.next_checkpoint = interval > 0 ? next_multiple_after(time, interval, 0) : kNever;
 }
@@ -82,7 +82,7 @@ Verdict Checkpointer::after_step(Simulation& sim, const StepEvent&) {
   return Verdict::go_on();
 }
 
-void Checkpointer::write(const Simulation& sim) { write_checkpoint(out_dir_, model_, sim, loop_, writer_.sync()); }
+void Checkpointer::write(const Simulation& sim) { write_checkpoint(out_dir_, fingerprints_, sim, loop_, writer_.sync()); }
 
 namespace {
 

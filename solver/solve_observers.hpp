@@ -96,14 +96,15 @@ class ProgressLine : public Observer {
 // Writes OUT/checkpoint.h5 at multiples of `interval` simulated seconds (0: never).
 class Checkpointer : public Observer {
  public:
-  Checkpointer(const std::string& out_dir, const Model& model, ResultsWriter& writer, LoopState& loop,
+  // `fingerprints`: model_fingerprints of the run's model (checkpoint.hpp).
+  Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter& writer, LoopState& loop,
                double interval, double tolerance, double time);
   Verdict after_step(Simulation& sim, const StepEvent&) override;
   void write(const Simulation& sim);  // now, whatever the schedule
 
  private:
   std::string out_dir_;
-  const Model& model_;
+  Fingerprints fingerprints_;
   ResultsWriter& writer_;
   LoopState& loop_;
   double interval_, tolerance_;

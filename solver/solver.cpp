@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "solver/checkpoint.hpp"
+#include "solver/parallel.hpp"
 #include "solver/results.hpp"
 #include "solver/solve_observers.hpp"
 #include "solver/step.hpp"
@@ -47,9 +48,9 @@ std::string step_failure(const Simulation& sim, const BlowUpBudget& budget) {
          point(P.x[s.bad_particle]) + " has a non-finite or inverted state" + where.str() + " (try a smaller run.cfl)";
 }
 
-}  // namespace
-
-SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log) {
+// solve(); with `owned` (the same object as model, given up by its owner) the particle columns
+// move from the model into the simulation (make_simulation(Model&&)) on a fresh run.
+SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& options, std::ostream& log) {
   if (!(options.checkpoint_interval >= 0) || !std::isfinite(options.checkpoint_interval))
     throw Error("--checkpoint-interval: expected a finite time >= 0 s");
   const RunSettings& run = model.run;
@@ -60,12 +61,17 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
             << " s, at most " << kMaxFrames << " (raise --checkpoint-interval)";
     throw Error(message.str());
   }
+  const auto setup_start = Clock::now();
   StopSignals stop_signals;
-  Simulation sim = make_simulation(model, options.threads > 0 ? options.threads : omp_get_max_threads());
+  const std::size_t particles = model.particle_count();
+  const ThreadChoice threads = choose_threads(static_cast<long>(particles), options.threads);
+  Fingerprints fingerprints = model_fingerprints(model);
+  Simulation sim;
   LoopState loop;
   std::optional<ResultsWriter> writer;
   const std::string checkpoint = checkpoint_path(options.out_dir);
   if (options.restart) {
+    sim = make_simulation(model, threads.threads);
     ResultsPosition position;
     read_checkpoint(options.out_dir, model, sim, loop, position);
     writer.emplace(options.out_dir, model, position);
@@ -74,7 +80,22 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   } else {
     std::error_code ignored;  // a checkpoint of an earlier run would not match the new results
     std::filesystem::remove(checkpoint, ignored);
-    writer.emplace(options.out_dir, model);
+    if (owned) {
+      // The results' initial state comes from the model's columns before they move.
+      writer.emplace(options.out_dir, model);
+      try {
+        sim = make_simulation(std::move(*owned), threads.threads);
+      } catch (...) {  // a bad model leaves no results behind
+        const std::string results = writer->path(), xdmf = writer->xdmf_path();
+        writer.reset();
+        std::filesystem::remove(results, ignored);
+        std::filesystem::remove(xdmf, ignored);
+        throw;
+      }
+    } else {
+      sim = make_simulation(model, threads.threads);
+      writer.emplace(options.out_dir, model);
+    }
     const Energies initial = energies(sim);
     const BlowUpBudget budget = BlowUpBudget::starting_from(sim, initial);
     loop.budget = budget.budget();
@@ -83,6 +104,7 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
     writer->record_history(sim, initial);
     writer->write_frame(sim);
   }
+  sim.scratch.phase_times = options.phase_times;
 
   // The observers, in the order they see each step.
   const double tolerance = 1e-9 * run.end_time;
@@ -93,11 +115,12 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   StepLimit step_limit(run.max_steps);
   FrameWriter frames(*writer, loop, run.output_interval, tolerance);
   ProgressLine progress(options.progress, run.end_time);
-  Checkpointer checkpoints(options.out_dir, model, *writer, loop, options.checkpoint_interval, tolerance, sim.time);
+  Checkpointer checkpoints(options.out_dir, std::move(fingerprints), *writer, loop, options.checkpoint_interval, tolerance, sim.time);
   const std::vector<Observer*> observers{&sorter, &budget,   &history,     &rest,        &step_limit,
                                          &frames, &progress, &checkpoints, &stop_signals};
 
   const auto start = Clock::now();
+  const double setup_seconds = std::chrono::duration<double>(start - setup_start).count();
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   const LoopEnd end = run_time_loop(sim, run.cfl, run.end_time, observers);
   progress.done();
@@ -123,10 +146,12 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   if (end.kind == LoopEnd::Stopped && !frames.written_at(sim)) frames.write(sim);
 
   SolveSummary summary;
-  summary.particles = model.particle_count();
+  summary.particles = particles;
   summary.threads = sim.config.threads;
+  summary.thread_choice = threads.why;
   summary.stopped_at_rest = rest.at_rest(sim);
   summary.loop_seconds = seconds();
+  summary.setup_seconds = setup_seconds;
   summary.steps = sim.steps;
   summary.simulated_time = sim.time;
   writer->finish(sim.steps, summary.loop_seconds, true);
@@ -139,10 +164,21 @@ SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream
   return summary;
 }
 
+}  // namespace
+
+SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log) {
+  return run_solve(model, nullptr, options, log);
+}
+
+SolveSummary solve(Model&& model, const SolveOptions& options, std::ostream& log) {
+  return run_solve(model, &model, options, log);
+}
+
 void print_summary(const SolveSummary& s, std::ostream& out) {
   out << "solved: " << s.steps << " steps, " << s.particles << " particles, " << s.simulated_time
       << " s simulated, time loop " << std::fixed << std::setprecision(2) << s.loop_seconds << " s on " << s.threads
-      << (s.threads == 1 ? " thread, " : " threads, ") << std::scientific << std::setprecision(3)
+      << (s.threads == 1 ? " thread" : " threads")
+      << (s.thread_choice.empty() ? "" : " (" + s.thread_choice + ")") << ", " << std::scientific << std::setprecision(3)
       << s.particle_updates_per_second() << " particle-updates/s, " << std::defaultfloat << s.frames << " frames\n";
 }
 

@@ -9,14 +9,17 @@
 
 namespace talus::solver {
 
+struct PhaseTimes;  // simulation.hpp
+
 struct SolveOptions {
   std::string out_dir;   // results.h5 and results.xdmf go here
   bool progress = true;  // a progress line when stderr is a terminal
-  int threads = 0;       // 0: OpenMP's default (omp_get_max_threads)
+  int threads = 0;       // 0: chosen from the particle count and the cores (choose_threads, parallel.hpp)
   // Simulated seconds between checkpoints (OUT/checkpoint.h5, see checkpoint.hpp); 0: none,
   // except the one written when SIGINT or SIGTERM stops the run.
   double checkpoint_interval = 0;
   bool restart = false;  // continue from OUT/checkpoint.h5 and OUT/results.h5
+  PhaseTimes* phase_times = nullptr;  // when given: wall time per step phase, added to it
 };
 
 // Thrown by solve() when SIGINT or SIGTERM stopped it: after the current step, a checkpoint,
@@ -30,7 +33,9 @@ struct SolveSummary {
   long steps = 0;
   std::size_t particles = 0;
   int threads = 1;            // OpenMP threads of the time loop
+  std::string thread_choice;  // how they were chosen: "auto: 48,812 particles, 2 cores" or "--threads"
   double simulated_time = 0;  // s
+  double setup_seconds = 0;   // wall time before the loop: the simulation, results.h5 and its first frame
   double loop_seconds = 0;    // wall time of the time loop
   long frames = 0;
   bool stopped_at_rest = false;
@@ -45,6 +50,10 @@ struct SolveSummary {
 // leaves the domain; the message says when and where. SIGINT and SIGTERM stop it cleanly
 // (Interrupted). A run that completes removes its checkpoint.
 SolveSummary solve(const Model& model, const SolveOptions& options, std::ostream& log);
+// The same on a model its owner gives up: on a fresh run its particle columns move into the
+// solver's state instead of being copied, so the model and the simulation are not both held
+// (at 10M particles that is 88 bytes per particle less).
+SolveSummary solve(Model&& model, const SolveOptions& options, std::ostream& log);
 
 void print_summary(const SolveSummary& summary, std::ostream& out);
 

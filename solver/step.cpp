@@ -6,9 +6,35 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 
 namespace talus::solver {
+
+namespace {
+
+// Laps of step()'s phases into PhaseTimes when timing is on; a null check per phase when off.
+class PhaseClock {
+ public:
+  explicit PhaseClock(PhaseTimes* times) : times_(times) {
+    if (times_) last_ = std::chrono::steady_clock::now();
+  }
+  void lap(PhaseTimes::Phase phase) {
+    if (!times_) return;
+    const auto now = std::chrono::steady_clock::now();
+    times_->seconds[phase] += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+  ~PhaseClock() {
+    if (times_) ++times_->steps;
+  }
+
+ private:
+  PhaseTimes* times_;
+  std::chrono::steady_clock::time_point last_;
+};
+
+}  // namespace
 
 bool step(Simulation& sim, double dt) {
   const Config& c = sim.config;
@@ -17,14 +43,19 @@ bool step(Simulation& sim, double dt) {
   const int threads = c.threads;
   const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints};
 
+  PhaseClock clock(s.phase_times);
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
+  clock.lap(PhaseTimes::Mark);
   load_factors(c, sim.time, s.load_factor);
   particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads);
+  clock.lap(PhaseTimes::ToGrid);
   update_grid_accelerations(c.constraints, c.field_fixed, c.damping, dt, s.grids, threads);
+  clock.lap(PhaseTimes::GridAcceleration);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
     find_contact_nodes(contact, P, s.stencil, s.grids, s.contact_nodes, threads);
     apply_contact(contact, dt, s.contact_nodes, s.grids, threads);
+    clock.lap(PhaseTimes::Contact);
   }
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
     // The particles take a grid velocity rather than its increment: PIC's v_i + dt a_i, which
@@ -34,18 +65,26 @@ bool step(Simulation& sim, double dt) {
       add_xpic_terms(P, s.stencil, c.constraints, c.xpic_order, s.grids, s.buffers, threads);
       if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
     }
+    clock.lap(PhaseTimes::GridVelocity);
   }
   update_particle_velocities(P, s.stencil, c.mesh.nodes, c.transfer, dt, s.grids, s.buffers, threads);
+  clock.lap(PhaseTimes::ParticleVelocity);
   remap_grid_velocities(c.constraints, c.field_fixed, s.grids, s.buffers, threads);
   if (c.contact) apply_contact_velocities(contact, s.contact_nodes, s.grids, threads);
+  clock.lap(PhaseTimes::Remap);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
+  clock.lap(PhaseTimes::Kinematics);
   if (c.evs) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
+  clock.lap(PhaseTimes::Evs);
   find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);
+  clock.lap(PhaseTimes::Isolated);
   s.bad_particle = c.water.enabled()
                        ? update_stresses_with_water(P, s.d_eps, s.isolated, c, sim.time + dt, threads)
                        : update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
                                          threads);
+  clock.lap(PhaseTimes::Stresses);
   s.lost_particle = relocate_particles(c.mesh, P, s.stencil, threads);
+  clock.lap(PhaseTimes::Relocate);
   sim.time += dt;
   ++sim.steps;
   return s.lost_particle < 0 && s.bad_particle < 0;

@@ -6,7 +6,9 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdlib>
 
+#include "solver/parallel.hpp"
 #include "solver/step.hpp"
 #include "support/test_support.hpp"
 
@@ -120,4 +122,52 @@ TEST(Determinism, SameThreadCountGivesBitIdenticalRuns) {
     EXPECT_EQ(a.strain, b.strain);
     EXPECT_GT(largest_position_difference(first, make_simulation(model, threads)), 1e-4);
   }
+}
+
+TEST(ThreadChoice, SmallProblemsRunOnOneThreadLargeOnTheCores) {
+  omp_set_num_threads(8);
+  const ThreadChoice asked = choose_threads(100, 3);
+  EXPECT_EQ(asked.threads, 3);
+  EXPECT_EQ(asked.why, "--threads");
+  // Below two threads' worth of particles: one thread, whatever the machine.
+  EXPECT_EQ(choose_threads(2 * kParticlesPerThread - 1, 0).threads, 1);
+  EXPECT_EQ(choose_threads(1, 0).threads, 1);
+  // Above: no more threads than cores (OMP_NUM_THREADS, when set, stands for the cores).
+  const int cores = std::getenv("OMP_NUM_THREADS") ? 8 : std::min(available_cores(), 8);
+  EXPECT_EQ(choose_threads(1000 * kParticlesPerThread, 0).threads, cores);
+  EXPECT_EQ(choose_threads(3 * kParticlesPerThread, 0).threads, std::min(cores, 3));
+  EXPECT_EQ(choose_threads(48812, 0).why.rfind("auto: 48,812 particles, ", 0), 0u) << choose_threads(48812, 0).why;
+  if (!std::getenv("OMP_NUM_THREADS")) {
+    omp_set_num_threads(1);  // a program that asked OpenMP for one thread gets one
+    EXPECT_EQ(choose_threads(1000 * kParticlesPerThread, 0).threads, 1);
+  }
+}
+
+TEST(ThreadContract, AMovedModelBuildsTheSameSimulationAndKeepsNoParticles) {
+  const Model model = busy_model();
+  Model handed_over = model;
+  Simulation copied = make_simulation(model, 2);
+  Simulation moved = make_simulation(std::move(handed_over), 2);
+  EXPECT_EQ(handed_over.particle_count(), 0u);
+  EXPECT_TRUE(handed_over.mass.empty() && handed_over.stress.empty() && handed_over.element.empty());
+  EXPECT_EQ(handed_over.triangles.size(), model.triangles.size());  // the mesh and settings stay
+  EXPECT_EQ(moved.config.initial_volume, copied.config.initial_volume);
+  run_steps(copied, 60);
+  run_steps(moved, 60);
+  EXPECT_EQ(differing_values(copied, moved), 0);
+  EXPECT_GT(largest_position_difference(moved, make_simulation(model, 2)), 1e-5) << "nothing moved";
+}
+
+TEST(ThreadContract, PhaseTimerTimesEveryStepAndChangesNothing) {
+  const Model model = busy_model();
+  Simulation timed = make_simulation(model, 2), untimed = make_simulation(model, 2);
+  PhaseTimes times;
+  timed.scratch.phase_times = &times;
+  run_steps(timed, 50);
+  run_steps(untimed, 50);
+  EXPECT_EQ(differing_values(timed, untimed), 0);
+  EXPECT_EQ(times.steps, 50);
+  for (int phase : {PhaseTimes::ToGrid, PhaseTimes::Contact, PhaseTimes::Evs, PhaseTimes::Stresses})
+    EXPECT_GT(times.seconds[phase], 0) << PhaseTimes::kNames[phase];
+  EXPECT_EQ(times.seconds[PhaseTimes::GridVelocity], 0) << "FLIP has no Lagrangian grid velocity phase";
 }

@@ -92,7 +92,7 @@ void check_results_fit(const Model& model, const std::string& model_path, const 
 }
 
 void solve(const std::string& model_path, const std::string& folder, const StageOptions& options, std::ostream& log) {
-  const Model model = read_model(model_path);
+  Model model = read_model(model_path);
   check_results_fit(model, model_path, folder);
   solver::SolveOptions solve_options;
   solve_options.out_dir = folder;
@@ -103,7 +103,7 @@ void solve(const std::string& model_path, const std::string& folder, const Stage
   std::ostringstream discarded;
   solver::SolveSummary summary;
   try {
-    summary = solver::solve(model, solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
+    summary = solver::solve(std::move(model), solve_options, options.quiet ? static_cast<std::ostream&>(discarded) : log);
   } catch (const Error& error) {
     // The solver's checks of the mesh and particles say "model: ...": name the file.
     const std::string message = error.what();
