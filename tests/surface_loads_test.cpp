@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "common/error.hpp"
+#include "common/h5.hpp"
 #include "common/scene.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/checkpoint.hpp"
@@ -212,3 +213,28 @@ TEST(SurfaceLoads, CheckpointRestoresTheLoadsBitForBit) {
 }
 
 }  // namespace
+
+// The same column through the command line: `talus run` hands the model's particle columns to
+// the solver (solve(Model&&)), and the loads must survive the hand-over.
+TEST(SurfaceLoads, TheCommandLineRunSettlesTheColumnAsTheLibraryDoes) {
+  ScratchDir dir("surface_loads_cli");
+  std::ofstream(dir.file("scene.geo")) << talus::testing::kOedometerColumnGeo;
+  std::ofstream(dir.file("scene.toml")) << talus::testing::oedometer_column_scene();
+  const auto run = talus::testing::run_talus("run " + dir.file("scene.toml") + " --out " + dir.file("out") +
+                                             " -q --threads 1 --set post.metrics=[]");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const h5::File file = h5::File::open_read(dir.file("out/results.h5"));
+  h5::Dims dims;
+  const auto position = h5::read_doubles(file, "frames/position", &dims);
+  const std::size_t frames = dims[0], n = dims[1];
+  ASSERT_GE(frames, 2u);
+  double uy = 0, yy = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const double y0 = position[p * 2 + 1], y = position[((frames - 1) * n + p) * 2 + 1];
+    uy += (y - y0) * y0;
+    yy += y0 * y0;
+  }
+  const double M = kE * (1 - kNu) / ((1 + kNu) * (1 - 2 * kNu));
+  const double settlement = -uy / yy * kHeight, expected = kQ * kHeight / M;
+  EXPECT_NEAR(settlement, expected, 0.01 * expected);
+}
