@@ -3,7 +3,12 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
 #include <thread>
 
 namespace talus::solver {
@@ -32,6 +37,30 @@ std::string with_commas(long n) {
 
 }  // namespace
 
+int busy_cores_now() {
+  std::vector<int> samples;
+  for (int k = 0; k < 5; ++k) {
+    if (k > 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::ifstream stat("/proc/stat");
+    std::string key;
+    int running = -1;
+    while (stat >> key)
+      if (key == "procs_running") {
+        stat >> running;
+        break;
+      }
+    if (running < 1) return 0;
+    samples.push_back(running - 1);  // procs_running counts this process
+  }
+  std::sort(samples.begin(), samples.end());
+  return samples[samples.size() / 2];
+}
+
+int busy_cores_at_start() {
+  const char* env = std::getenv(kBusyCoresVariable);
+  return env && *env ? std::max(0, std::atoi(env)) : 0;
+}
+
 ThreadChoice choose_threads(long particles, int requested) {
   if (requested > 0) return {requested, "--threads"};
   const char* env = std::getenv("OMP_NUM_THREADS");
@@ -41,18 +70,24 @@ ThreadChoice choose_threads(long particles, int requested) {
   const int cores = from_env ? std::max(1, omp_get_max_threads())
                              : std::max(1, std::min(available_cores(), omp_get_max_threads()));
   const long by_size = std::max(1L, particles / kParticlesPerThread);
+  const int busy = busy_cores_at_start();
   ThreadChoice choice;
-  choice.threads = static_cast<int>(std::min<long>(cores, by_size));
+  choice.threads = static_cast<int>(std::min<long>(std::max(1, cores - busy), by_size));
   choice.why = "auto: " + with_commas(particles) + " particles, " + std::to_string(cores) +
-               (from_env ? " from OMP_NUM_THREADS" : cores == 1 ? " core" : " cores");
+               (from_env ? " from OMP_NUM_THREADS" : cores == 1 ? " core" : " cores") +
+               (busy > 0 ? ", " + std::to_string(busy) + " busy" : "");
   return choice;
 }
 
 void bound_openmp_spin(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
-  if (setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0) return;
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT") || std::getenv(kBusyCoresVariable)) return;
+  const int busy = busy_cores_now();
+  if (busy == 0) return;  // a quiet machine: OpenMP's own spin is the fastest
+  const std::string count = std::to_string(busy);
+  if (setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0 || setenv(kBusyCoresVariable, count.c_str(), 1) != 0) return;
   execv("/proc/self/exe", argv);
   unsetenv("GOMP_SPINCOUNT");  // exec failed: carry on with OpenMP's defaults
+  unsetenv(kBusyCoresVariable);
 }
 
 }  // namespace talus::solver

@@ -15,9 +15,20 @@ namespace talus::solver {
 // ---- How many threads a solve uses (parallel.cpp) ---------------------------------------------
 
 // Below this many particles per thread a second thread costs more at the step's barriers than
-// it saves (measured on 2 cores, docs/benchmarks.md "Thread choice"): the automatic choice
-// gives every thread at least this many particles.
-inline constexpr long kParticlesPerThread = 12000;
+// it saves (measured on a quiet 2-core machine, docs/benchmarks.md "Thread choice": 2 threads
+// broke even at 128 particles and were 1.2x faster at 288): the automatic choice gives every
+// thread at least this many particles.
+inline constexpr long kParticlesPerThread = 250;
+
+// Set by bound_openmp_spin when it restarts the program on a busy machine: how many other
+// programs were running then. The automatic thread count leaves that many cores to them.
+inline constexpr const char* kBusyCoresVariable = "TALUS_BUSY_CORES";
+
+// Other programs running now: procs_running of /proc/stat (less this process), the median of 5
+// samples 2 ms apart; 0 when it cannot be read.
+int busy_cores_now();
+// The count bound_openmp_spin saw (kBusyCoresVariable), 0 when it did not restart the program.
+int busy_cores_at_start();
 
 // The cores this process may run on: the CPUs of its affinity mask (sched_getaffinity), else
 // std::thread::hardware_concurrency, at least 1.
@@ -31,18 +42,22 @@ struct ThreadChoice {
 // `requested` > 0 is the user's count (--threads) and wins. Otherwise the count follows the
 // problem size: particles / kParticlesPerThread, at least 1, at most the cores available
 // (the affinity mask; OMP_NUM_THREADS when set in the environment; omp_set_num_threads when
-// called with fewer).
+// called with fewer) less the cores busy with other programs when talus started
+// (busy_cores_at_start).
 ThreadChoice choose_threads(long particles, int requested);
 
 // OpenMP threads that wait at the end of a loop spin first (libgomp: about 300,000 spins, a
 // few ms) and then sleep. When other programs hold the cores, a thread spinning for a
 // descheduled partner burns the time that partner needs: a 2-thread solve took 12x its quiet
 // time with one busy program per core, and up to 20x under the build load of this machine.
-// A spin of kSpinCount (a few microseconds) then sleeping loses little on a quiet machine
-// and yields the core at once under load (docs/benchmarks.md, "Under load"). libgomp reads
-// its settings when it is loaded, before main, so this starts the program again (execv of
-// /proc/self/exe with the same arguments) with GOMP_SPINCOUNT set. A user's OMP_WAIT_POLICY
-// or GOMP_SPINCOUNT is left alone, and so is a process where /proc/self/exe cannot be run.
+// A spin of kSpinCount (a few microseconds) then sleeping yields the core at once under load,
+// but on a quiet machine it makes every barrier wait for a woken thread (the 6k-particle slope
+// on 2 threads: 0.86 s against 0.61 s with libgomp's spin; docs/benchmarks.md, "Under load").
+// So when other programs are running at the start (busy_cores_now() > 0), this starts the
+// program again (execv of /proc/self/exe with the same arguments; libgomp reads its settings
+// when it is loaded, before main) with GOMP_SPINCOUNT = kSpinCount and kBusyCoresVariable set;
+// on a quiet machine it does nothing. A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT is left
+// alone, and so is a process where /proc/self/exe cannot be run.
 // Call it first thing in main.
 inline constexpr const char* kSpinCount = "300";
 void bound_openmp_spin(char** argv);

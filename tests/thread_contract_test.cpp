@@ -143,6 +143,26 @@ TEST(ThreadChoice, SmallProblemsRunOnOneThreadLargeOnTheCores) {
   }
 }
 
+// A busy machine at the start (what bound_openmp_spin hands over in TALUS_BUSY_CORES): the
+// automatic count leaves the busy cores to the other programs, keeps at least one thread, and
+// says so; --threads still wins.
+TEST(ThreadChoice, LeavesTheCoresThatWereBusyAtTheStart) {
+  omp_set_num_threads(8);
+  const int cores = std::getenv("OMP_NUM_THREADS") ? 8 : std::min(available_cores(), 8);
+  setenv(kBusyCoresVariable, "1", 1);
+  const ThreadChoice one_busy = choose_threads(1000 * kParticlesPerThread, 0);
+  setenv(kBusyCoresVariable, "64", 1);
+  const ThreadChoice all_busy = choose_threads(1000 * kParticlesPerThread, 0);
+  const ThreadChoice asked = choose_threads(1000 * kParticlesPerThread, 2);
+  unsetenv(kBusyCoresVariable);
+  EXPECT_EQ(one_busy.threads, std::max(1, cores - 1));
+  EXPECT_NE(one_busy.why.find(", 1 busy"), std::string::npos) << one_busy.why;
+  EXPECT_EQ(all_busy.threads, 1);
+  EXPECT_EQ(asked.threads, 2);
+  EXPECT_EQ(choose_threads(1000 * kParticlesPerThread, 0).threads, cores);
+  EXPECT_EQ(busy_cores_at_start(), 0);
+}
+
 TEST(ThreadContract, AMovedModelBuildsTheSameSimulationAndKeepsNoParticles) {
   const Model model = busy_model();
   Model handed_over = model;
