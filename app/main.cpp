@@ -8,6 +8,7 @@
 #include "app/cli.hpp"
 #include "common/error.hpp"
 #include "postproc/figure_script.hpp"
+#include "solver/mpi.hpp"
 #include "solver/parallel.hpp"
 #include "solver/solver.hpp"
 #include "workflow/converge.hpp"
@@ -164,6 +165,7 @@ int run_command(const cli::Arguments& args) {
 
 int main(int argc, char** argv) {
   solver::bound_openmp_spin(argv);
+  solver::mpi::init(&argc, &argv);
   try {
     const cli::Arguments args = cli::parse(argc, argv);
     if (args.threads > 0) omp_set_num_threads(args.threads);

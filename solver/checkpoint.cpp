@@ -102,18 +102,22 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
 
 void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Simulation& sim,
                       const LoopState& loop, const ResultsPosition& results) {
+  write_checkpoint(out_dir, fingerprints, sim.particles, sim.time, sim.steps, loop, results);
+}
+
+void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Particles& P, double time,
+                      long steps, const LoopState& loop, const ResultsPosition& results) {
   const std::string path = checkpoint_path(out_dir);
   h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
     h5::create_group(file, kFingerprintGroup);
     for (const auto& [section, value] : fingerprints) h5::set_attribute(file, kFingerprintGroup, section, value);
 
-    const Particles& P = sim.particles;
     const std::size_t n = P.size();
     h5::set_attribute(file, "/", "particles", static_cast<int64_t>(n));
     h5::set_attribute(file, "/", "moving_count", static_cast<int64_t>(P.moving_count));
-    h5::set_attribute(file, "/", "time", sim.time);
-    h5::set_attribute(file, "/", "steps", static_cast<int64_t>(sim.steps));
+    h5::set_attribute(file, "/", "time", time);
+    h5::set_attribute(file, "/", "steps", static_cast<int64_t>(steps));
     P.for_each_field([&](const FieldInfo& field, const auto& column) {
       if (field.roles & kCheckpointed) write_column(file, std::string("particles/") + field.name, column, n);
     });

@@ -46,6 +46,10 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
 using Fingerprints = std::vector<std::pair<std::string, int64_t>>;
 void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Simulation& sim,
                       const LoopState& loop, const ResultsPosition& results);
+// The same from particles gathered off several ranks (domain.hpp, gather_particles): a
+// checkpoint of N ranks restarts on any number of ranks.
+void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Particles& particles,
+                      double time, long steps, const LoopState& loop, const ResultsPosition& results);
 
 // Overwrites the particles, time and step count of `sim` (built by make_simulation from the
 // same model) with the checkpoint's, and fills `loop` and `results`. Throws talus::Error when

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 
+#include "solver/domain.hpp"
 #include "solver/step.hpp"
 
 namespace talus::solver {
@@ -98,7 +99,7 @@ void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, 
 }  // namespace
 
 void find_contact_nodes(const ContactRules& rules, const Particles& P, const Stencil& S, Grids& grids,
-                        std::vector<int32_t>& contact_nodes, int threads) {
+                        std::vector<int32_t>& contact_nodes, int threads, Domain* domain) {
   const std::size_t bodies = grids.fields.size();
   // Candidates: the nodes where two or more bodies have mass (serial: one look at each active
   // node's body masses is small beside P2G).
@@ -109,7 +110,7 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
     if (present >= 2) contact_nodes.push_back(i);
   }
   const std::size_t candidates = contact_nodes.size();
-  if (candidates == 0) return;  // bodies apart: no particle pass
+  if (candidates == 0 && !domain) return;  // bodies apart: no particle pass (ranks still swap extents)
 
   auto& slot = grids.contact_slot;
   if (slot.size() != grids.fields[0].m.size()) slot.assign(grids.fields[0].m.size(), -1);
@@ -179,6 +180,8 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
         for (std::size_t p = runs[r]; p < runs[r + 1]; ++p) extend(p, extent);
   }
   });
+
+  if (domain) exchange_contact_extents(*domain, contact_nodes, bodies, grids);
 
   // Body b touches body c at a node when c begins before b's front ends along b's normal.
   // A fixed body takes part where a moving body touches it.

@@ -2,6 +2,7 @@
 // time, the stable step, the energies, and the velocity that moves each particle.
 #include <cmath>
 
+#include "solver/mpi.hpp"
 #include "solver/parallel.hpp"
 #include "solver/simulation.hpp"
 
@@ -30,6 +31,7 @@ double stable_time_step(const Simulation& sim, double cfl) {
   const long n = static_cast<long>(P.moving_count);
 #pragma omp parallel for reduction(max : max_speed) schedule(static) num_threads(sim.config.threads)
   for (long p = 0; p < n; ++p) max_speed = std::max(max_speed, P.v[p].norm());
+  if (sim.domain.distributed()) max_speed = mpi::max(max_speed);
   return cfl * sim.config.mesh.h_min / (wave_speed + max_speed);  // (A.13)
 }
 
@@ -60,15 +62,20 @@ Energies energies(const Simulation& sim) {
   // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
   // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they
   // move nothing and would keep a deposit at rest from ever looking so.
+  // On several ranks a shared node counts on one of them only (Domain::counts).
   double grid_kinetic = 0;
   const Grids& grids = sim.scratch.grids;
+  const Domain& domain = sim.domain;
   const long count = static_cast<long>(grids.active.size());
   for (const Grid& grid : grids.fields)
     grid_kinetic += ordered_sum<double>(count, threads, [&](long k) {
       const int32_t i = grids.active[k];
-      return 0.5 * grid.m[i] * grid.v[i].squaredNorm();
+      return domain.counts(i) ? 0.5 * grid.m[i] * grid.v[i].squaredNorm() : 0.0;
     });
-  return {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+  if (!domain.distributed()) return {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+  double all[4] = {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+  mpi::sum_in_rank_order(all, 4);
+  return {all[0], all[1], all[2], all[3]};
 }
 
 std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {

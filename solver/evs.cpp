@@ -12,6 +12,12 @@ namespace talus::solver {
 void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stencil& S,
                                const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
                                int threads) {
+  evs_node_sums(mesh, P, active, evs, d_eps, threads);
+  apply_evs(P, S, evs, d_eps, threads);
+}
+
+void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
+                   const std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const long elements = static_cast<long>(mesh.element_count());
   // Cell sums: each thread into its own arrays, then added in thread order (deterministic).
@@ -48,6 +54,10 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
       evs.node_area[i] += mesh.area[e];
     }
   }
+}
+
+void apply_evs(const Particles& P, const Stencil& S, const EvsScratch& evs, std::vector<Vec4>& d_eps, int threads) {
+  const long moving = static_cast<long>(P.moving_count);
   const int W = S.width;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = 0; p < moving; ++p) {

@@ -6,6 +6,9 @@
 #include <stdexcept>
 
 #ifdef TALUS_WITH_MPI
+// The C API only: OpenMPI would pull in its deprecated C++ bindings otherwise.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 #endif
 

@@ -75,6 +75,15 @@ struct Particles {
     TALUS_PARTICLE_FIELDS(TALUS_VISIT_FIELD)
 #undef TALUS_VISIT_FIELD
   }
+  // Calls visit(info, column, other_column) for every field of this and `other`, in
+  // declaration order (copying particles between two sets).
+  template <class Visit>
+  void for_each_field_with(const Particles& other, Visit&& visit) {
+#define TALUS_VISIT_PAIR(type, member, results_name, unit, roles) \
+  visit(FieldInfo{#member, results_name, unit, roles}, member, other.member);
+    TALUS_PARTICLE_FIELDS(TALUS_VISIT_PAIR)
+#undef TALUS_VISIT_PAIR
+  }
 };
 
 // Whether a simulation fills a written field, so that results.h5 has its frames: the pore

@@ -157,12 +157,17 @@ ResultsPosition ResultsWriter::sync() {
 }
 
 void ResultsWriter::write_frame(const Simulation& sim) {
-  check_still_there();
-  guarded([&] { write_frame_data(sim); });
+  write_frame(sim.particles, grid_velocity_at_particles(sim), sim.time, sim.steps);
 }
 
-void ResultsWriter::write_frame_data(const Simulation& sim) {
-  const Particles& P = sim.particles;
+void ResultsWriter::write_frame(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time,
+                                long steps) {
+  check_still_there();
+  guarded([&] { write_frame_data(particles, velocity, time, steps); });
+}
+
+void ResultsWriter::write_frame_data(const Particles& P, const std::vector<Eigen::Vector2d>& velocity, double time,
+                                     long steps) {
   const std::size_t n = particles_;
   // Frames are in the model's particle order (the solver keeps its own, sorted, order).
   auto append = [&](FrameSet& set, const auto& column) {
@@ -172,9 +177,9 @@ void ResultsWriter::write_frame_data(const Simulation& sim) {
       for (int k = 0; k < set.width; ++k) scratch_[P.id[p] * set.width + k] = E::get(column[p], k);
     set.data.append(scratch_.data());
   };
-  time_set_.append(&sim.time);
+  time_set_.append(&time);
   auto set = frame_sets_.begin();
-  append(*set++, grid_velocity_at_particles(sim));
+  append(*set++, velocity);
   // The displacement goes straight into the frame buffer (no column of its own).
   scratch_.assign(n * 2, 0.0);
   for (std::size_t p = 0; p < n; ++p)
@@ -184,10 +189,10 @@ void ResultsWriter::write_frame_data(const Simulation& sim) {
     if (field_written(field, water_)) append(*set++, column);
   });
   std::vector<double>().swap(scratch_);  // 8 bytes per particle and column: not kept between frames
-  time_.push_back(sim.time);
+  time_.push_back(time);
   write_frame_views(file_, n, time_.size() - 1, fields());
   flush_history();
-  h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(sim.steps));
+  h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(steps));
   file_.flush();
   write_xdmf();
 }

@@ -34,6 +34,9 @@ class ResultsWriter {
   // Writes the pending history and flushes: everything recorded so far is in the file.
   ResultsPosition sync();
   void write_frame(const Simulation& sim);
+  // The same from particles gathered off several ranks (domain.hpp, gather_particles) with the
+  // grid velocity at each.
+  void write_frame(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time, long steps);
   void record_history(const Simulation& sim, const Energies& energy);
   // Writes the pending history and the run's root attributes (complete = 1 for a run that
   // reached its end, 0 for one stopped by an error), and flushes.
@@ -49,7 +52,8 @@ class ResultsWriter {
   void guarded(Write&& write);
   // Throws when results.h5 is no longer the file this writer writes (deleted or replaced).
   void check_still_there() const;
-  void write_frame_data(const Simulation& sim);
+  void write_frame_data(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time,
+                        long steps);
   void flush_history();
   void write_xdmf() const;
   std::vector<FrameField> fields() const;  // the frame datasets, for the XDMF and its views

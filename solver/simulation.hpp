@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/model.hpp"
+#include "solver/domain_state.hpp"
 #include "solver/grid.hpp"
 #include "solver/material.hpp"
 #include "solver/mesh.hpp"
@@ -85,6 +86,7 @@ struct Scratch {
   // Problems found inside parallel loops, reported after them (-1: none).
   long bad_particle = -1;   // first particle with a non-finite state
   long lost_particle = -1;  // first particle that left the domain
+  bool failed_elsewhere = false;  // on several ranks: the step failed on another rank
 };
 
 struct Simulation {
@@ -94,6 +96,7 @@ struct Simulation {
   long steps = 0;
   long reorders = 0;  // times the particles were re-ordered (indices change then)
   Scratch scratch;
+  Domain domain;  // this rank's share of a run on several MPI ranks (domain.hpp); one rank: empty
 };
 
 // Builds the simulation from a model: mesh geometry, constraints, materials, particles sorted

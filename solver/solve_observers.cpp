@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "solver/domain.hpp"
+
 namespace talus::solver {
 
 double next_multiple_after(double time, double interval, double tolerance) {
@@ -21,13 +23,20 @@ Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
 }
 
 void FrameWriter::write(const Simulation& sim) {
-  writer_.write_frame(sim);
+  if (!sim.domain.distributed()) {
+    writer_->write_frame(sim);
+  } else {
+    const std::vector<Vec2> velocity = grid_velocity_at_particles(sim);
+    std::vector<Vec2> all_velocity;
+    const Particles all = gather_particles(sim, &velocity, &all_velocity);
+    on_root([&] { writer_->write_frame(all, all_velocity, sim.time, sim.steps); });
+  }
   last_step_ = sim.steps;
   loop_.next_output = next_multiple_after(sim.time, interval_, tolerance_);
 }
 
 Verdict HistoryRecorder::after_step(Simulation& sim, const StepEvent& event) {
-  if (event.energies_due) writer_.record_history(sim, event.energies());
+  if (event.energies_due && writer_) writer_->record_history(sim, event.energies());
   return Verdict::go_on();
 }
 
@@ -67,7 +76,7 @@ void ProgressLine::done() {
   shown_ = false;
 }
 
-Checkpointer::Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter& writer,
+Checkpointer::Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter* writer,
                            LoopState& loop, double interval, double tolerance, double time)
     : out_dir_(out_dir), fingerprints_(std::move(fingerprints)), writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {
   // Periodic checkpoints at multiples of the interval; they change what is on disk, not the run.
@@ -82,7 +91,14 @@ Verdict Checkpointer::after_step(Simulation& sim, const StepEvent&) {
   return Verdict::go_on();
 }
 
-void Checkpointer::write(const Simulation& sim) { write_checkpoint(out_dir_, fingerprints_, sim, loop_, writer_.sync()); }
+void Checkpointer::write(const Simulation& sim) {
+  if (!sim.domain.distributed()) {
+    write_checkpoint(out_dir_, fingerprints_, sim, loop_, writer_->sync());
+    return;
+  }
+  const Particles all = gather_particles(sim);
+  on_root([&] { write_checkpoint(out_dir_, fingerprints_, all, sim.time, sim.steps, loop_, writer_->sync()); });
+}
 
 namespace {
 
@@ -108,10 +124,12 @@ StopSignals::~StopSignals() {
   sigaction(SIGTERM, &previous_terminate_, nullptr);
 }
 
-Verdict StopSignals::after_step(Simulation&, const StepEvent&) {
-  return stop_signal ? Verdict::stop("interrupted") : Verdict::go_on();
+Verdict StopSignals::after_step(Simulation& sim, const StepEvent&) {
+  distributed_ = sim.domain.distributed();
+  seen_ = distributed_ ? static_cast<int>(mpi::max(static_cast<long>(stop_signal))) : stop_signal;
+  return seen_ ? Verdict::stop("interrupted") : Verdict::go_on();
 }
 
-int StopSignals::signal() const { return stop_signal; }
+int StopSignals::signal() const { return distributed_ ? seen_ : stop_signal; }
 
 }  // namespace talus::solver

@@ -18,10 +18,13 @@ namespace talus::solver {
 // interval cannot exceed time + tolerance in doubles, the next double beyond it).
 double next_multiple_after(double time, double interval, double tolerance);
 
+// On several MPI ranks only rank 0 holds a ResultsWriter (the others pass null): frames and
+// checkpoints gather the particles there (domain.hpp), and every rank takes part.
+
 // Writes a frame at every multiple of the output interval, landing the step on it.
 class FrameWriter : public Observer {
  public:
-  FrameWriter(ResultsWriter& writer, LoopState& loop, double interval, double tolerance)
+  FrameWriter(ResultsWriter* writer, LoopState& loop, double interval, double tolerance)
       : writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {}
   double next_landing(const Simulation&) const override { return loop_.next_output; }
   bool wants_energies(const Simulation& sim) const override { return due(sim); }
@@ -32,7 +35,7 @@ class FrameWriter : public Observer {
 
  private:
   bool due(const Simulation& sim) const { return sim.time >= loop_.next_output - tolerance_; }
-  ResultsWriter& writer_;
+  ResultsWriter* writer_;
   LoopState& loop_;
   double interval_, tolerance_;
   long last_step_ = -1;
@@ -42,12 +45,12 @@ class FrameWriter : public Observer {
 // energies computed (at every frame).
 class HistoryRecorder : public Observer {
  public:
-  HistoryRecorder(ResultsWriter& writer, int interval) : writer_(writer), interval_(interval) {}
+  HistoryRecorder(ResultsWriter* writer, int interval) : writer_(writer), interval_(interval) {}
   bool wants_energies(const Simulation& sim) const override { return sim.steps % interval_ == 0; }
   Verdict after_step(Simulation& sim, const StepEvent& event) override;
 
  private:
-  ResultsWriter& writer_;
+  ResultsWriter* writer_;
   int interval_;
 };
 
@@ -97,7 +100,7 @@ class ProgressLine : public Observer {
 class Checkpointer : public Observer {
  public:
   // `fingerprints`: model_fingerprints of the run's model (checkpoint.hpp).
-  Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter& writer, LoopState& loop,
+  Checkpointer(const std::string& out_dir, Fingerprints fingerprints, ResultsWriter* writer, LoopState& loop,
                double interval, double tolerance, double time);
   Verdict after_step(Simulation& sim, const StepEvent&) override;
   void write(const Simulation& sim);  // now, whatever the schedule
@@ -105,13 +108,14 @@ class Checkpointer : public Observer {
  private:
   std::string out_dir_;
   Fingerprints fingerprints_;
-  ResultsWriter& writer_;
+  ResultsWriter* writer_;
   LoopState& loop_;
   double interval_, tolerance_;
 };
 
 // SIGINT and SIGTERM set a flag while it lives (the previous handlers come back after); the
-// run stops after the step in which the flag was seen.
+// run stops after the step in which the flag was seen (on several ranks: seen on any rank,
+// so that all stop after the same step).
 class StopSignals : public Observer {
  public:
   StopSignals();
@@ -122,6 +126,8 @@ class StopSignals : public Observer {
   int signal() const;  // the signal that stopped the run, 0 for none
 
  private:
+  int seen_ = 0;  // on several ranks: the signal that stopped the run (the largest over the ranks)
+  bool distributed_ = false;
   struct sigaction previous_interrupt_ {};
   struct sigaction previous_terminate_ {};
 };

@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "solver/checkpoint.hpp"
+#include "solver/domain.hpp"
 #include "solver/parallel.hpp"
 #include "solver/results.hpp"
 #include "solver/solve_observers.hpp"
@@ -34,18 +35,29 @@ std::string point(const Vec2& x) {
 // Why the step failed: a particle left the domain (after a blow-up, when the kinetic energy is
 // beyond what the run can have: an unstable run flings particles out before anything else
 // shows), or a state became non-finite.
-std::string step_failure(const Simulation& sim, const BlowUpBudget& budget) {
+std::string local_step_failure(const Simulation& sim, bool blown_up) {
   const Particles& P = sim.particles;
   const Scratch& s = sim.scratch;
   std::ostringstream where;
   where << " at step " << sim.steps << ", t = " << sim.time << " s";
-  const bool blown_up = budget.exceeded_by(energies(sim));
   if (s.lost_particle >= 0)
     return std::string(blown_up ? "numerical blow-up (kinetic energy beyond what gravity can supply): " : "") +
            "particle " + std::to_string(P.id[s.lost_particle]) + " left the domain at " + point(P.x[s.lost_particle]) +
            where.str() + (blown_up ? " (try a smaller run.cfl)" : "");
   return "numerical blow-up: particle " + std::to_string(P.id[s.bad_particle]) + " near " +
          point(P.x[s.bad_particle]) + " has a non-finite or inverted state" + where.str() + " (try a smaller run.cfl)";
+}
+
+// On several ranks every rank calls it: the message is that of the first rank where the step
+// failed.
+std::string step_failure(const Simulation& sim, const BlowUpBudget& budget) {
+  const bool blown_up = budget.exceeded_by(energies(sim));
+  const Scratch& s = sim.scratch;
+  const bool here = s.lost_particle >= 0 || s.bad_particle >= 0;
+  if (!sim.domain.distributed()) return local_step_failure(sim, blown_up);
+  std::string message = here ? local_step_failure(sim, blown_up) : std::string();
+  mpi::broadcast(message, mpi::first_rank_with(here));
+  return message;
 }
 
 // solve(); with `owned` (the same object as model, given up by its owner) the particle columns
@@ -66,43 +78,63 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const std::size_t particles = model.particle_count();
   const ThreadChoice threads = choose_threads(static_cast<long>(particles), options.threads);
   Fingerprints fingerprints = model_fingerprints(model);
+  // Several MPI ranks (domain.hpp): every rank builds the whole simulation from the model and
+  // keeps its share; rank 0 alone writes results.h5 and the checkpoints. Errors every rank
+  // meets alike are SharedErrors; on_root shares rank 0's.
+  const bool distributed = mpi::distributed();
+  const bool root = mpi::rank() == 0;
+  auto shared = [&](auto&& build) {
+    try {
+      build();
+    } catch (const SharedError&) {
+      throw;
+    } catch (const Error& error) {
+      if (distributed) throw SharedError(error.what());
+      throw;
+    }
+  };
   Simulation sim;
   LoopState loop;
   std::optional<ResultsWriter> writer;
   const std::string checkpoint = checkpoint_path(options.out_dir);
   if (options.restart) {
-    sim = make_simulation(model, threads.threads);
-    ResultsPosition position;
-    read_checkpoint(options.out_dir, model, sim, loop, position);
-    writer.emplace(options.out_dir, model, position);
-    log << "restarting from " << checkpoint << " at step " << sim.steps << ", t = " << sim.time << " s ("
-        << position.frames << " frames kept)\n";
+    shared([&] {
+      sim = make_simulation(model, threads.threads);
+      ResultsPosition position;
+      read_checkpoint(options.out_dir, model, sim, loop, position);
+      on_root([&] { writer.emplace(options.out_dir, model, position); });
+      log << "restarting from " << checkpoint << " at step " << sim.steps << ", t = " << sim.time << " s ("
+          << position.frames << " frames kept)\n";
+    });
+    distribute(sim);
   } else {
-    std::error_code ignored;  // a checkpoint of an earlier run would not match the new results
-    std::filesystem::remove(checkpoint, ignored);
-    if (owned) {
+    on_root([&] {
+      std::error_code ignored;  // a checkpoint of an earlier run would not match the new results
+      std::filesystem::remove(checkpoint, ignored);
       // The results' initial state comes from the model's columns before they move.
       writer.emplace(options.out_dir, model);
-      try {
-        sim = make_simulation(std::move(*owned), threads.threads);
-      } catch (...) {  // a bad model leaves no results behind
+    });
+    try {
+      shared([&] { sim = owned ? make_simulation(std::move(*owned), threads.threads) : make_simulation(model, threads.threads); });
+      distribute(sim);
+    } catch (...) {  // a bad model leaves no results behind
+      if (writer) {
+        std::error_code ignored;
         const std::string results = writer->path(), xdmf = writer->xdmf_path();
         writer.reset();
         std::filesystem::remove(results, ignored);
         std::filesystem::remove(xdmf, ignored);
-        throw;
       }
-    } else {
-      sim = make_simulation(model, threads.threads);
-      writer.emplace(options.out_dir, model);
+      throw;
     }
     const Energies initial = energies(sim);
     const BlowUpBudget budget = BlowUpBudget::starting_from(sim, initial);
     loop.budget = budget.budget();
     loop.budget_limit = budget.limit();
     loop.next_output = run.output_interval;
-    writer->record_history(sim, initial);
-    writer->write_frame(sim);
+    if (writer) writer->record_history(sim, initial);
+    FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0).write(sim);
+    loop.next_output = run.output_interval;
   }
   sim.scratch.phase_times = options.phase_times;
 
@@ -110,12 +142,13 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const double tolerance = 1e-9 * run.end_time;
   ParticleSorter sorter;
   BlowUpBudget budget(loop.budget, loop.budget_limit);
-  HistoryRecorder history(*writer, run.history_interval);
+  ResultsWriter* results = writer ? &*writer : nullptr;
+  HistoryRecorder history(results, run.history_interval);
   RestDetector rest(loop, run.rest_ratio, run.rest_window);
   StepLimit step_limit(run.max_steps);
-  FrameWriter frames(*writer, loop, run.output_interval, tolerance);
-  ProgressLine progress(options.progress, run.end_time);
-  Checkpointer checkpoints(options.out_dir, std::move(fingerprints), *writer, loop, options.checkpoint_interval, tolerance, sim.time);
+  FrameWriter frames(results, loop, run.output_interval, tolerance);
+  ProgressLine progress(options.progress && root, run.end_time);
+  Checkpointer checkpoints(options.out_dir, std::move(fingerprints), results, loop, options.checkpoint_interval, tolerance, sim.time);
   const std::vector<Observer*> observers{&sorter, &budget,   &history,     &rest,        &step_limit,
                                          &frames, &progress, &checkpoints, &stop_signals};
 
@@ -125,20 +158,24 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const LoopEnd end = run_time_loop(sim, run.cfl, run.end_time, observers);
   progress.done();
 
+  const std::string results_path = (std::filesystem::path(options.out_dir) / "results.h5").string();
+  auto frames_kept = [&] { return writer ? writer->frames() : 0L; };
   if (end.kind == LoopEnd::StepFailed || end.kind == LoopEnd::Failed || end.kind == LoopEnd::BadTimeStep) {
     const std::string message = end.kind == LoopEnd::StepFailed ? step_failure(sim, budget) : end.reason;
-    writer->finish(sim.steps, seconds(), false);
-    throw Error("solve: " + message + "; " + std::to_string(writer->frames()) + " frames kept in " + writer->path());
+    on_root([&] { writer->finish(sim.steps, seconds(), false); });
+    const std::string text = "solve: " + message + "; " + std::to_string(frames_kept()) + " frames kept in " + results_path;
+    if (distributed) throw SharedError(text);
+    throw Error(text);
   }
   if (const int signal = stop_signals.signal()) {
     // The checkpoint records the frames of the uninterrupted run only; the last frame
     // written after it shows where the run stopped, and a restart drops it.
     checkpoints.write(sim);
     if (!frames.written_at(sim)) frames.write(sim);
-    writer->finish(sim.steps, seconds(), false);
+    on_root([&] { writer->finish(sim.steps, seconds(), false); });
     std::ostringstream message;
     message << "interrupted by " << (signal == SIGINT ? "SIGINT" : "SIGTERM") << " at step " << sim.steps
-            << ", t = " << sim.time << " s: " << writer->frames() << " frames kept in " << writer->path()
+            << ", t = " << sim.time << " s: " << frames_kept() << " frames kept in " << results_path
             << ", checkpoint in " << checkpoint << " (continue with --restart)";
     throw Interrupted(signal, message.str());
   }
@@ -154,10 +191,20 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   summary.setup_seconds = setup_seconds;
   summary.steps = sim.steps;
   summary.simulated_time = sim.time;
-  writer->finish(sim.steps, summary.loop_seconds, true);
-  summary.frames = writer->frames();
-  std::error_code ignored;  // the results are complete: nothing left to restart
-  std::filesystem::remove(checkpoint, ignored);
+  summary.ranks = sim.domain.ranks;
+  summary.halo_bytes_per_step = sim.steps > 0 ? sim.domain.halo_bytes / static_cast<double>(sim.steps) : 0;
+  summary.migrated = sim.domain.migrated;
+  summary.repartitions = sim.domain.repartitions;
+  if (distributed) {
+    summary.halo_bytes_per_step = mpi::sum_in_rank_order(summary.halo_bytes_per_step);
+    summary.migrated = mpi::sum(summary.migrated);
+  }
+  on_root([&] {
+    writer->finish(sim.steps, summary.loop_seconds, true);
+    std::error_code ignored;  // the results are complete: nothing left to restart
+    std::filesystem::remove(checkpoint, ignored);
+  });
+  summary.frames = frames_kept();
   if (summary.stopped_at_rest)
     log << "at rest at t = " << sim.time << " s (kinetic energy below " << run.rest_ratio * 100 << "% of its peak for "
         << run.rest_window << " s)\n";
@@ -180,6 +227,10 @@ void print_summary(const SolveSummary& s, std::ostream& out) {
       << (s.threads == 1 ? " thread" : " threads")
       << (s.thread_choice.empty() ? "" : " (" + s.thread_choice + ")") << ", " << std::scientific << std::setprecision(3)
       << s.particle_updates_per_second() << " particle-updates/s, " << std::defaultfloat << s.frames << " frames\n";
+  if (s.ranks > 1)
+    out << "  on " << s.ranks << " MPI ranks: " << std::fixed << std::setprecision(0) << s.halo_bytes_per_step
+        << " bytes exchanged at shared nodes per step (all ranks), " << s.migrated << " particle migrations, "
+        << s.repartitions << " repartitions\n" << std::defaultfloat;
 }
 
 }  // namespace talus::solver

@@ -39,6 +39,10 @@ struct SolveSummary {
   double loop_seconds = 0;    // wall time of the time loop
   long frames = 0;
   bool stopped_at_rest = false;
+  int ranks = 1;                   // MPI ranks (domain.hpp)
+  double halo_bytes_per_step = 0;  // bytes sent at shared nodes per step, all ranks together
+  long migrated = 0;               // particles that moved to another rank, all ranks together
+  long repartitions = 0;
   double particle_updates_per_second() const {
     return loop_seconds > 0 ? static_cast<double>(particles) * steps / loop_seconds : 0;
   }

@@ -61,6 +61,13 @@ void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grid
 void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stencil& stencil,
                                const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
                                int threads);
+// Its two halves, between which a distributed step exchanges the node sums: the cell averages
+// summed at the nodes (evs.node_strain, evs.node_area), and their mean over each particle's
+// stencil put into its d_eps.
+void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
+                   const std::vector<Vec4>& d_eps, int threads);
+void apply_evs(const Particles& P, const Stencil& stencil, const EvsScratch& evs, std::vector<Vec4>& d_eps,
+               int threads);
 
 // Flags the moving particles alone in their element that fill less than half of it
 // (isolated.cpp): grains in free flight, which carry no stress.
@@ -84,6 +91,12 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
 // Finds each moving particle's element (neighbour walk) and recomputes its stencil row.
 // Returns the first particle that left the domain, or -1.
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads);
+// The element walk of relocate_particles alone (a distributed step migrates the particles
+// between it and the stencil): the last particle that left the domain, -1 when none did.
+long locate_particles(const Mesh& mesh, Particles& P, int threads);
+// (A.11) on several ranks: the remap's momentum summed over the ranks at the shared nodes
+// before it is divided by the mass (domain.hpp).
+void remap_grid_velocities_distributed(Simulation& sim);
 
 // ---- Frictional contact (contact.cpp) -------------------------------------------------------
 // Bardenhagen et al. (2000), seed appendix B: at nodes where more than one field (a body, or a
@@ -101,8 +114,10 @@ struct ContactRules {
 
 // Lists (ascending) in `contact_nodes` the nodes where 2+ bodies have mass and their particles
 // touch along the contact normal, and records which bodies take part at each.
+// On several ranks (`domain`), the extents are combined over the ranks at the shared nodes.
+struct Domain;
 void find_contact_nodes(const ContactRules& rules, const Particles& particles, const Stencil& stencil, Grids& grids,
-                        std::vector<int32_t>& contact_nodes, int threads);
+                        std::vector<int32_t>& contact_nodes, int threads, Domain* domain = nullptr);
 
 // Corrects the end-of-step trial velocities through the accelerations, so that (A.10) sees it.
 void apply_contact(const ContactRules& rules, double dt, const std::vector<int32_t>& contact_nodes, Grids& grids,

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <sstream>
 
+#include "solver/domain.hpp"
 #include "solver/step.hpp"
 
 namespace talus::solver {
@@ -62,6 +63,7 @@ double energy_budget(const Simulation& sim, const Energies& start) {
     for (const auto& x : sim.config.mesh.nodes) box.extend(x);
     for (std::size_t p = 0; p < P.moving_count; ++p) release += P.load_force[p].norm() * box.diagonal().norm();
   }
+  if (sim.domain.distributed()) release = mpi::sum_in_rank_order(release);
   return start.kinetic + start.strain + release;
 }
 
