@@ -58,6 +58,16 @@ Arguments parse(int argc, char** argv) {
         throw Error("--threads: got '" + text + "', at most " + std::to_string(most) + " (4 x the " +
                     std::to_string(cores) + " hardware threads of this machine, never above " +
                     std::to_string(kMaxThreads) + ")");
+    } else if (name == "--ranks") {
+      const std::string text = value_of(i, name);
+      std::size_t used = 0;
+      try {
+        args.ranks = std::stoi(text, &used);
+      } catch (...) {
+        args.ranks = -1;
+      }
+      if (args.ranks < 1 || args.ranks > kMaxRanks || used != text.size())
+        throw Error("--ranks: expected an integer from 1 to " + std::to_string(kMaxRanks) + ", got '" + text + "'");
     } else if (name == "--checkpoint-interval") {
       args.checkpoint_interval = number_of(i, name, 0, false, std::numeric_limits<double>::infinity(),
                                            "a time >= 0 in seconds of simulated time");

@@ -9,6 +9,8 @@ namespace talus::cli {
 
 // --threads is at most 4 x the machine's hardware threads, and never above this.
 constexpr int kMaxThreads = 1024;
+// --ranks is at most this (all on this machine: mpirun --oversubscribe).
+constexpr int kMaxRanks = 256;
 
 struct Arguments {
   std::string command;
@@ -18,6 +20,7 @@ struct Arguments {
   bool quiet = false;                  // --quiet
   bool help = false;                   // --help / -h
   int threads = 0;                     // --threads N (0: all cores)
+  int ranks = 0;                       // --ranks N (solve, run: MPI ranks; 0: none asked)
   std::optional<double> checkpoint_interval;  // --checkpoint-interval T (s of simulated time)
   bool restart = false;                       // --restart
   std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)

@@ -67,14 +67,18 @@ ThreadChoice choose_threads(long particles, int requested) {
   const bool from_env = env && *env;
   // OpenMP's count is the user's OMP_NUM_THREADS, or what omp_set_num_threads set, or (by
   // default) the CPUs OpenMP found; the affinity mask bounds it unless the user asked for more.
+  // Ranks of one machine (mpirun sets OMPI_COMM_WORLD_LOCAL_SIZE) share its cores.
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const int sharing = local && *local ? std::max(1, std::atoi(local)) : 1;
   const int cores = from_env ? std::max(1, omp_get_max_threads())
-                             : std::max(1, std::min(available_cores(), omp_get_max_threads()));
+                             : std::max(1, std::min(available_cores(), omp_get_max_threads()) / sharing);
   const long by_size = std::max(1L, particles / kParticlesPerThread);
   const int busy = busy_cores_at_start();
   ThreadChoice choice;
   choice.threads = static_cast<int>(std::min<long>(std::max(1, cores - busy), by_size));
   choice.why = "auto: " + with_commas(particles) + " particles, " + std::to_string(cores) +
                (from_env ? " from OMP_NUM_THREADS" : cores == 1 ? " core" : " cores") +
+               (sharing > 1 && !from_env ? " of the machine's shared by its " + std::to_string(sharing) + " ranks" : "") +
                (busy > 0 ? ", " + std::to_string(busy) + " busy" : "");
   return choice;
 }

@@ -105,7 +105,10 @@ namespace {
 // The signal that asked the run to stop (0: none). Set by the handler, read after each step.
 volatile std::sig_atomic_t stop_signal = 0;
 
-extern "C" void on_stop_signal(int signal) { stop_signal = signal; }
+// SIGUSR1 and SIGUSR2 are SIGINT and SIGTERM as mpirun forwards them (workflow/launch.hpp).
+extern "C" void on_stop_signal(int signal) {
+  stop_signal = signal == SIGUSR1 ? SIGINT : signal == SIGUSR2 ? SIGTERM : signal;
+}
 
 }  // namespace
 
@@ -117,11 +120,19 @@ StopSignals::StopSignals() {
   action.sa_flags = SA_RESTART;  // file writes in progress continue rather than fail with EINTR
   sigaction(SIGINT, &action, &previous_interrupt_);
   sigaction(SIGTERM, &action, &previous_terminate_);
+  if (mpi::distributed()) {
+    sigaction(SIGUSR1, &action, &previous_user1_);
+    sigaction(SIGUSR2, &action, &previous_user2_);
+  }
 }
 
 StopSignals::~StopSignals() {
   sigaction(SIGINT, &previous_interrupt_, nullptr);
   sigaction(SIGTERM, &previous_terminate_, nullptr);
+  if (mpi::distributed()) {
+    sigaction(SIGUSR1, &previous_user1_, nullptr);
+    sigaction(SIGUSR2, &previous_user2_, nullptr);
+  }
 }
 
 Verdict StopSignals::after_step(Simulation& sim, const StepEvent&) {

@@ -113,7 +113,8 @@ class Checkpointer : public Observer {
   double interval_, tolerance_;
 };
 
-// SIGINT and SIGTERM set a flag while it lives (the previous handlers come back after); the
+// SIGINT and SIGTERM (on several ranks also SIGUSR1 and SIGUSR2, as mpirun forwards a Ctrl-C
+// from `--ranks`, workflow/launch.hpp) set a flag while it lives (the previous handlers come back after); the
 // run stops after the step in which the flag was seen (on several ranks: seen on any rank,
 // so that all stop after the same step).
 class StopSignals : public Observer {
@@ -130,6 +131,8 @@ class StopSignals : public Observer {
   bool distributed_ = false;
   struct sigaction previous_interrupt_ {};
   struct sigaction previous_terminate_ {};
+  struct sigaction previous_user1_ {};
+  struct sigaction previous_user2_ {};
 };
 
 }  // namespace talus::solver

@@ -76,7 +76,8 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const auto setup_start = Clock::now();
   StopSignals stop_signals;
   const std::size_t particles = model.particle_count();
-  const ThreadChoice threads = choose_threads(static_cast<long>(particles), options.threads);
+  // Each rank of a distributed solve threads its own share of the particles.
+  const ThreadChoice threads = choose_threads(static_cast<long>(particles) / mpi::size(), options.threads);
   Fingerprints fingerprints = model_fingerprints(model);
   // Several MPI ranks (domain.hpp): every rank builds the whole simulation from the model and
   // keeps its share; rank 0 alone writes results.h5 and the checkpoints. Errors every rank

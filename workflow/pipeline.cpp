@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <system_error>
 
@@ -13,7 +14,9 @@
 #include "postproc/postproc.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/solver.hpp"
+#include "solver/mpi.hpp"
 #include "workflow/folder_lock.hpp"
+#include "workflow/launch.hpp"
 #include "workflow/stamps.hpp"
 
 namespace fs = std::filesystem;
@@ -91,9 +94,25 @@ void check_results_fit(const Model& model, const std::string& model_path, const 
   throw Error(located(model_path, "settings/run@output_interval", message.str()));
 }
 
+// An error every rank of a distributed solve meets alike (they all read the same model) is
+// printed once, by rank 0 (common/error.hpp).
+[[noreturn]] void rethrow_shared(const Error& error) {
+  if (solver::mpi::distributed() && !dynamic_cast<const SharedError*>(&error)) throw SharedError(error.what());
+  throw;
+}
+
 void solve(const std::string& model_path, const std::string& folder, const StageOptions& options, std::ostream& log) {
-  Model model = read_model(model_path);
-  check_results_fit(model, model_path, folder);
+  if (options.ranks > 1 && !solver::mpi::distributed()) {
+    solve_on_ranks(model_path, folder, options, log);
+    return;
+  }
+  Model model;
+  try {
+    model = read_model(model_path);
+    check_results_fit(model, model_path, folder);
+  } catch (const Error& error) {
+    rethrow_shared(error);
+  }
   solver::SolveOptions solve_options;
   solve_options.out_dir = folder;
   solve_options.progress = !options.quiet;
@@ -107,8 +126,10 @@ void solve(const std::string& model_path, const std::string& folder, const Stage
   } catch (const Error& error) {
     // The solver's checks of the mesh and particles say "model: ...": name the file.
     const std::string message = error.what();
-    if (message.rfind("model: ", 0) != 0) throw;
-    throw Error(located(model_path, "", message.substr(7)));
+    if (message.rfind("model: ", 0) != 0) rethrow_shared(error);
+    const Error located_error(located(model_path, "", message.substr(7)));
+    if (solver::mpi::distributed()) throw SharedError(located_error.what());
+    throw located_error;
   }
   if (!options.quiet) {
     solver::print_summary(summary, log);
@@ -137,8 +158,26 @@ std::string mesh_stage(const std::string& scene_path, const StageOptions& option
 
 void solve_stage(const std::string& model_path, const StageOptions& options, std::ostream& log) {
   const std::string folder = folder_beside(options.out, model_path);
-  const FolderLock lock(folder);
-  stamps::forget(folder);
+  if (!solver::mpi::distributed()) {
+    const FolderLock lock(folder);
+    stamps::forget(folder);
+    solve(model_path, folder, options, log);
+    return;
+  }
+  // One of several ranks (mpirun): rank 0 holds the folder's lock for them all, unless the
+  // `--ranks` parent that started mpirun holds it already; every rank learns whether it got it.
+  std::optional<FolderLock> lock;
+  std::string refused;
+  if (solver::mpi::rank() == 0 && !launched_by_ranks_parent()) {
+    try {
+      lock.emplace(folder);
+      stamps::forget(folder);
+    } catch (const Error& error) {
+      refused = error.what();
+    }
+  }
+  solver::mpi::broadcast(refused, 0);
+  if (!refused.empty()) throw SharedError(refused);
   solve(model_path, folder, options, log);
 }
 

@@ -21,6 +21,7 @@ struct StageOptions {
   int threads = 0;                  // solve: OpenMP threads; 0: OpenMP's default
   double checkpoint_interval = 0;   // solve: simulated s between checkpoints; 0: only when stopped
   bool restart = false;             // solve: continue from FOLDER/checkpoint.h5 (run: always solves)
+  int ranks = 0;                    // solve, run: MPI ranks of the solve (--ranks; > 1: under mpirun)
 };
 
 // `out`, else out/<scene name>; created.

@@ -1,0 +1,34 @@
+// `--ranks N` (solve, run): the solve on N MPI ranks of this machine, without typing mpirun.
+// This process, which holds the output folder's lock, starts
+//   mpirun -n N --oversubscribe --bind-to none --quiet talus solve MODEL --out DIR ...
+// with TALUS_RANKS_CHILD=1 in the ranks' environment (they leave the lock and the stamps to this
+// process), and waits. Ctrl-C and SIGTERM here reach the ranks as OpenMPI forwards them: as
+// SIGUSR1 and SIGUSR2, which a distributed solve takes for SIGINT and SIGTERM (it stops after
+// the step with a checkpoint); a second one stops mpirun at once. Rank 0 prints the progress,
+// the summary and any error; this process adds nothing and exits with the ranks' status.
+#pragma once
+#include <ostream>
+#include <string>
+
+#include "workflow/pipeline.hpp"
+
+namespace talus::workflow {
+
+// The variable a `--ranks` parent sets for the ranks it starts.
+constexpr const char* kRanksChildVariable = "TALUS_RANKS_CHILD";
+
+// This process is a rank that a `--ranks` parent started.
+bool launched_by_ranks_parent();
+
+// The ranks stopped with a non-zero status (rank 0 has said why): the driver exits with it.
+struct RanksFailed {
+  int status;
+};
+
+// Solves `model_path` into `folder` on options.ranks ranks under mpirun. Throws talus::Error when
+// mpirun cannot be started (this talus built without MPI, openmpi-bin missing) and RanksFailed
+// when the ranks fail or are stopped.
+void solve_on_ranks(const std::string& model_path, const std::string& folder, const StageOptions& options,
+                    std::ostream& log);
+
+}  // namespace talus::workflow
