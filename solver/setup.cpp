@@ -205,6 +205,9 @@ void sort_particles(Simulation& sim) {
   P.moving_count = 0;
   while (P.moving_count < n && !fixed[P.body[P.moving_count]]) ++P.moving_count;
   compute_stencil(sim.config.mesh, P, 0, n, sim.scratch.stencil, sim.config.threads);
+  // The fixed particles' runs (contact.cpp) are rebuilt: on several ranks a migration leaves
+  // the fixed particles out of element order, and the sort moves them.
+  sim.scratch.grids.fixed_runs.clear();
   ++sim.reorders;
 }
 
