@@ -103,6 +103,8 @@ bool step(Simulation& sim, double dt) {
     s.lost_particle = locate_particles(c.mesh, P, threads);
     if (mpi::any(s.lost_particle >= 0 || s.bad_particle >= 0)) {
       s.failed_elsewhere = s.lost_particle < 0 && s.bad_particle < 0;
+      sim.time += dt;  // the failed step is counted, as with one rank
+      ++sim.steps;
       return false;
     }
     migrate_particles(sim);

@@ -1,0 +1,201 @@
+// One model across several MPI ranks (docs/scaling.md), through the talus binary: `talus solve
+// MODEL --ranks N` starts N ranks with mpirun (--oversubscribe: 3 ranks on this 2-core
+// machine). The frames of 1, 2 and 3 ranks agree within 1e-10 relative on the slope, the
+// frictional box (contact) and the granular column; a checkpoint written by 2 ranks restarts
+// on 3 and on 1; a run that fails on several ranks stops them all with one message.
+// Skipped when the binary was built without MPI.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include "common/h5.hpp"
+#include "support/test_support.hpp"
+
+namespace talus {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_shell;
+using testing::run_talus;
+using testing::ScratchDir;
+
+bool built_with_mpi() {
+  static const bool yes = run_talus("--version").output.find("MPI") != std::string::npos;
+  return yes;
+}
+
+// The largest difference between the frames of two results.h5, relative to the largest value
+// of each dataset, over the frame datasets the XDMF shows.
+double frame_difference(const std::string& a, const std::string& b, std::string& worst) {
+  double largest = 0;
+  for (const char* name : {"frames/time", "frames/position", "frames/velocity", "frames/stress",
+                           "frames/plastic_strain", "frames/displacement", "frames/volume"}) {
+    const auto x = h5::read_doubles(h5::File::open_read(a), name);
+    const auto y = h5::read_doubles(h5::File::open_read(b), name);
+    if (x.size() != y.size()) {
+      worst = std::string(name) + ": " + std::to_string(x.size()) + " against " + std::to_string(y.size()) + " values";
+      return HUGE_VAL;
+    }
+    double scale = 0, difference = 0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      scale = std::max(scale, std::abs(x[k]));
+      difference = std::max(difference, std::abs(x[k] - y[k]));
+    }
+    const double relative = scale > 0 ? difference / scale : difference;
+    if (relative >= largest) {
+      largest = relative;
+      worst = name;
+    }
+  }
+  return largest;
+}
+
+// Meshes geometries/slope.toml with `settings` into DIR/model and solves it on one rank, one
+// thread, into DIR/one (`expected_status`: 1 for a run that must fail). Returns the model's path.
+std::string slope_on_one_rank(const ScratchDir& dir, const std::string& settings, int expected_status,
+                              testing::CommandResult* solved = nullptr) {
+  const auto meshed = run_talus("mesh " + testing::source_path("geometries/slope.toml") + " --quiet " + settings +
+                                " --out " + dir.file("model"));
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  const std::string model = dir.file("model/model.h5");
+  const auto one = run_talus("solve " + model + " --threads 1 --quiet --out " + dir.file("one"));
+  EXPECT_EQ(one.status, expected_status) << one.output;
+  if (solved) *solved = one;
+  return model;
+}
+
+class Mpi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!built_with_mpi()) GTEST_SKIP() << "talus was built without MPI";
+  }
+  // Meshes `scene` with `settings` into DIR/model and solves it on 1, 2 and 3 ranks (one
+  // thread each); every rank count's frames must match one rank's within `tolerance`.
+  void expect_same_frames(const std::string& scene, const std::string& settings, double tolerance) {
+    const ScratchDir dir("mpi");
+    const auto meshed = run_talus("mesh " + testing::source_path("geometries/" + scene) + " --quiet " + settings +
+                                  " --out " + dir.file("model"));
+    ASSERT_EQ(meshed.status, 0) << meshed.output;
+    const std::string model = dir.file("model/model.h5");
+    for (int ranks : {1, 2, 3}) {
+      const auto solved = run_talus("solve " + model + " --threads 1 --ranks " + std::to_string(ranks) + " --out " +
+                                    dir.file("r" + std::to_string(ranks)));
+      ASSERT_EQ(solved.status, 0) << solved.output;
+      if (ranks > 1) {
+        EXPECT_NE(solved.output.find("on " + std::to_string(ranks) + " MPI ranks"), std::string::npos) << solved.output;
+        std::string worst;
+        const double difference =
+            frame_difference(dir.file("r1/results.h5"), dir.file("r" + std::to_string(ranks) + "/results.h5"), worst);
+        EXPECT_LE(difference, tolerance) << scene << " on " << ranks << " ranks: " << worst;
+      }
+    }
+  }
+};
+
+TEST_F(Mpi, SlopeFramesOnTwoAndThreeRanksMatchOneRank) {
+  // The default slope (Mohr-Coulomb, EVS) coarsened to 0.7 m elements, to t = 2 s: its failure
+  // crosses the partitions.
+  expect_same_frames("slope.toml", "--set mesh.size=0.7 --set run.end_time=2.0", 1e-10);
+}
+
+TEST_F(Mpi, FrictionalBoxFramesOnTwoAndThreeRanksMatchOneRank) {
+  // Two bodies in frictional contact: the block slides across the partitions, its particles
+  // migrate and the ranks repartition. (Before the fixed particles' runs were rebuilt after a
+  // sort, the block on 2 and 3 ranks drifted 0.4 in stress from t = 0.47 s.)
+  expect_same_frames("box_incline.toml", "--set mesh.size=0.05 --set run.end_time=0.8", 1e-10);
+}
+
+TEST_F(Mpi, GranularColumnFramesOnTwoAndThreeRanksMatchOneRank) {
+  expect_same_frames("column_collapse.toml", "--set mesh.size=0.01 --set run.end_time=0.4", 1e-10);
+}
+
+TEST_F(Mpi, PlainMpirunGivesTheSameFrames) {
+  // mpirun started by hand, as on a cluster: rank 0 alone prints and writes.
+  const ScratchDir dir("mpi-plain");
+  const std::string model = slope_on_one_rank(dir, "--set mesh.size=0.7 --set run.end_time=1.0", 0);
+  const auto two = run_shell("mpirun -n 2 --oversubscribe --quiet" + std::string(geteuid() == 0 ? " --allow-run-as-root" : "") +
+                             " " + TALUS_BINARY + " solve " + model + " --threads 1 --out " + dir.file("two"));
+  ASSERT_EQ(two.status, 0) << two.output;
+  EXPECT_NE(two.output.find("on 2 MPI ranks"), std::string::npos) << two.output;
+  std::size_t summaries = 0;
+  for (std::size_t at = two.output.find("solved:"); at != std::string::npos; at = two.output.find("solved:", at + 1))
+    ++summaries;
+  EXPECT_EQ(summaries, 1u) << "one summary, rank 0's:\n" << two.output;
+  std::string worst;
+  EXPECT_LE(frame_difference(dir.file("one/results.h5"), dir.file("two/results.h5"), worst), 1e-10) << worst;
+}
+
+TEST_F(Mpi, CheckpointOfTwoRanksRestartsOnThreeAndOnOne) {
+  // SIGTERM to `talus solve --ranks 2` reaches the ranks (as SIGUSR2, through mpirun); they stop
+  // after the same step with one checkpoint, which 3 ranks and 1 rank both continue.
+  const ScratchDir dir("mpi-restart");
+  const std::string model = slope_on_one_rank(dir, "--set mesh.size=0.25 --set run.end_time=3.0", 0);
+  const fs::path parts = dir.file("parts");
+  const std::string script = "( " + std::string(TALUS_BINARY) + " solve " + model +
+                             " --threads 1 --ranks 2 --quiet --checkpoint-interval 0.1 --out " + parts.string() +
+                             " & pid=$!; for i in $(seq 1 3000); do [ -f '" + (parts / "checkpoint.h5").string() +
+                             "' ] && break; sleep 0.01; done; kill -TERM $pid; wait $pid; echo status=$? )";
+  const auto stopped = run_shell(script);
+  ASSERT_NE(stopped.output.find("status=143"), std::string::npos) << stopped.output;
+  EXPECT_NE(stopped.output.find("interrupted by SIGTERM"), std::string::npos) << stopped.output;
+  // Rank 0's one line (and the shell's status): nothing of mpirun's.
+  EXPECT_EQ(stopped.output.rfind("talus: interrupted by SIGTERM", 0), 0u) << stopped.output;
+  EXPECT_EQ(std::count(stopped.output.begin(), stopped.output.end(), '\n'), 2) << stopped.output;
+  {
+    const auto times = h5::read_doubles(h5::File::open_read((parts / "results.h5").string()), "frames/time");
+    ASSERT_FALSE(times.empty());
+    EXPECT_LT(times.back(), 2.0) << "the run was not stopped midway";
+  }
+  for (int ranks : {3, 1}) {
+    const fs::path again = dir.file("again" + std::to_string(ranks));
+    fs::copy(parts, again, fs::copy_options::recursive);
+    const auto restarted = run_talus("solve " + model + " --threads 1 --quiet --restart --ranks " +
+                                     std::to_string(ranks) + " --out " + again.string());
+    ASSERT_EQ(restarted.status, 0) << restarted.output;
+    std::string worst;
+    EXPECT_LE(frame_difference(dir.file("one/results.h5"), (again / "results.h5").string(), worst), 1e-10)
+        << "restarted on " << ranks << " ranks: " << worst;
+  }
+}
+
+TEST_F(Mpi, AParticleLeavingTheDomainStopsEveryRankWithOneMessage) {
+  const ScratchDir dir("mpi-fail");
+  testing::CommandResult one;
+  const std::string model =
+      slope_on_one_rank(dir, "--set mesh.size=0.7 --set 'bodies.soil.initial_velocity=[30.0, 0.0]'", 1, &one);
+  const auto three = run_talus("solve " + model + " --threads 1 --quiet --ranks 3 --out " + dir.file("three"));
+  EXPECT_EQ(three.status, 1) << three.output;
+  // The one rank's message, once, and nothing of mpirun's.
+  EXPECT_EQ(three.output, one.output.substr(0, one.output.find(dir.file("one"))) +
+                              three.output.substr(three.output.find(dir.file("three"))))
+      << "one rank:\n" << one.output << "three ranks:\n" << three.output;
+  EXPECT_NE(three.output.find("left the domain"), std::string::npos) << three.output;
+}
+
+TEST_F(Mpi, BadModelOnSeveralRanksGivesOneMessage) {
+  const ScratchDir dir("mpi-bad");
+  const std::string bad = dir.file("damaged.h5");
+  ASSERT_EQ(run_shell("printf 'not an HDF5 file' > " + bad).status, 0);
+  const auto result = run_talus("solve " + bad + " --ranks 2 --quiet --out " + dir.file("out"));
+  EXPECT_EQ(result.status, 1) << result.output;
+  // One line, rank 0's.
+  EXPECT_EQ(result.output.rfind("talus: error: " + bad + ": ", 0), 0u) << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  EXPECT_FALSE(fs::exists(dir.file("out/results.h5")));
+}
+
+TEST(MpiOptions, RanksIsRefusedWhereNothingSolves) {
+  const auto result = run_talus("post nowhere.h5 --ranks 2");
+  EXPECT_EQ(result.status, 1);
+  EXPECT_NE(result.output.find("--ranks belongs to solve or run, not post"), std::string::npos) << result.output;
+  const auto zero = run_talus("solve nowhere.h5 --ranks 0");
+  EXPECT_EQ(zero.status, 1);
+  EXPECT_NE(zero.output.find("--ranks: expected an integer from 1 to 256, got '0'"), std::string::npos) << zero.output;
+}
+
+}  // namespace
+}  // namespace talus
