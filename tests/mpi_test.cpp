@@ -24,7 +24,7 @@ using testing::run_talus;
 using testing::ScratchDir;
 
 bool built_with_mpi() {
-  static const bool yes = run_talus("--version").output.find("MPI") != std::string::npos;
+  static const bool yes = run_talus("--version").output.find("(with MPI") != std::string::npos;
   return yes;
 }
 
