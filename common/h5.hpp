@@ -94,15 +94,22 @@ class Appendable {
  public:
   Appendable() = default;
   // chunk_rows: records per HDF5 chunk (1 for large records such as frames, more for small ones).
+  // allocate_early: the file space of new records is allocated as the dataset grows (extend),
+  // not when they are written, and never filled: the parallel HDF5 can write only chunks that
+  // have their space (solver/results_parallel.hpp).
   Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE,
-             hsize_t chunk_rows = 1);
+             hsize_t chunk_rows = 1, bool allocate_early = false);
   // An existing appendable dataset of `file` (opened for writing), cut back to its first
   // `keep` records so that appending continues from there. Throws talus::Error when the
   // dataset is missing, of another record shape, or shorter than `keep`.
   static Appendable reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
                            hid_t type = H5T_NATIVE_DOUBLE);
   void append(const void* records, hsize_t rows = 1);
+  // Grows the dataset by `rows` records left for another writer to fill.
+  void extend(hsize_t rows = 1);
   hsize_t size() const { return count_; }
+  // The dataset allocates its file space as it grows (allocate_early above).
+  bool allocated_early() const;
 
  private:
   Handle dataset_;

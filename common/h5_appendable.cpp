@@ -8,7 +8,7 @@
 namespace talus::h5 {
 
 Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type,
-                       hsize_t chunk_rows)
+                       hsize_t chunk_rows, bool allocate_early)
     : record_(record), type_(type), where_(file.path() + ": " + path) {
   Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(chunk_rows, 1)};
   for (hsize_t d : record) {
@@ -19,6 +19,10 @@ Appendable::Appendable(const File& file, const std::string& path, const Dims& re
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()));
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
   H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data());
+  if (allocate_early) {  // and not filled: every record is written in whole after it is allocated
+    H5Pset_alloc_time(dcpl.id(), H5D_ALLOC_TIME_EARLY);
+    H5Pset_fill_time(dcpl.id(), H5D_FILL_TIME_NEVER);
+  }
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
   H5Pset_create_intermediate_group(lcpl.id(), 1);
   dataset_ = Handle(H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT));
@@ -27,19 +31,31 @@ Appendable::Appendable(const File& file, const std::string& path, const Dims& re
 
 void Appendable::append(const void* records, hsize_t rows) {
   if (rows == 0) return;
-  Dims dims{count_ + rows}, start{count_}, count{rows};
+  extend(rows);
+  Dims start{count_ - rows}, count{rows};
   for (hsize_t d : record_) {
-    dims.push_back(d);
     start.push_back(0);
     count.push_back(d);
   }
-  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
   Handle file_space(H5Dget_space(dataset_.id()));
   H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
   if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
     throw Error(where_ + ": cannot write record");
+}
+
+void Appendable::extend(hsize_t rows) {
+  if (rows == 0) return;
+  Dims dims{count_ + rows};
+  dims.insert(dims.end(), record_.begin(), record_.end());
+  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
   count_ += rows;
+}
+
+bool Appendable::allocated_early() const {
+  Handle dcpl(H5Dget_create_plist(dataset_.id()));
+  H5D_alloc_time_t when = H5D_ALLOC_TIME_DEFAULT;
+  return dcpl.valid() && H5Pget_alloc_time(dcpl.id(), &when) >= 0 && when == H5D_ALLOC_TIME_EARLY;
 }
 
 Appendable Appendable::reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,

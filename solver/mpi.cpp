@@ -11,6 +11,12 @@
 #define MPICH_SKIP_MPICXX 1
 #include <mpi.h>
 #endif
+#ifdef TALUS_PARALLEL_HDF5
+#include <hdf5.h>
+
+#include <type_traits>
+static_assert(std::is_same_v<hid_t, std::int64_t>, "mpi.hpp passes HDF5 identifiers as int64_t");
+#endif
 
 namespace talus::solver::mpi {
 
@@ -26,6 +32,22 @@ bool launched_by_mpirun() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "PMI_RANK"})
     if (std::getenv(name)) return true;
   return false;
+}
+
+bool parallel_hdf5() {
+#ifdef TALUS_PARALLEL_HDF5
+  return true;
+#else
+  return false;
+#endif
+}
+
+bool set_parallel_io(std::int64_t fapl, std::int64_t dxpl) {
+#ifdef TALUS_PARALLEL_HDF5
+  return H5Pset_fapl_mpio(fapl, MPI_COMM_WORLD, MPI_INFO_NULL) >= 0 && H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE) >= 0;
+#else
+  return false;
+#endif
 }
 
 #ifdef TALUS_WITH_MPI

@@ -27,6 +27,14 @@ inline bool distributed() { return size() > 1; }
 // Stops every rank at once (MPI_Abort) with `code`; exit(code) with one rank.
 [[noreturn]] void abort_all(int code);
 
+// Built with the parallel HDF5 (TALUS_PARALLEL_HDF5): every rank can write its rows of a frame
+// into the one results.h5 (results_parallel.hpp).
+bool parallel_hdf5();
+// Sets the HDF5 file access list `fapl` to open a file on every rank of the run at once
+// (MPI-IO on all ranks) and the transfer list `dxpl` to collective writes. Both are HDF5
+// identifiers (hid_t). Returns false, setting nothing, without the parallel HDF5.
+bool set_parallel_io(std::int64_t fapl, std::int64_t dxpl);
+
 // ---- Collectives (every rank calls them, in the same order) ----------------------------------
 
 // values[k] <- the sum over the ranks of values[k], added in rank order: the same bits on every

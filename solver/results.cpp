@@ -30,16 +30,24 @@ void ResultsWriter::guarded(Write&& write) {
     write();
   } catch (const Error& error) {
     if (identity(path_) != std::make_pair(device_, inode_)) throw;  // not ours to remove
-    try {
-      file_.close();
-    } catch (const Error&) {  // the close fails too: the file is being removed
-    }
-    std::error_code ignored;
-    std::filesystem::remove(path_, ignored);
-    std::filesystem::remove(xdmf_path_, ignored);
-    throw Error(std::string(error.what()) + "; removed " + path_ + " and results.xdmf (a file whose write failed " +
-                "cannot be read)");
+    remove_after_failure(error.what());
   }
+}
+
+void ResultsWriter::remove_after_failure(const std::string& message) {
+  try {
+    file_.close();
+  } catch (const Error&) {  // the close fails too: the file is being removed
+  }
+  std::error_code ignored;
+  std::filesystem::remove(path_, ignored);
+  std::filesystem::remove(xdmf_path_, ignored);
+  throw Error(message + "; removed " + path_ + " and results.xdmf (a file whose write failed cannot be read)");
+}
+
+void ResultsWriter::abandon(const std::string& message) {
+  if (identity(path_) != std::make_pair(device_, inode_)) throw Error(message);  // not ours to remove
+  remove_after_failure(message);
 }
 
 void ResultsWriter::check_still_there() const {
@@ -117,29 +125,34 @@ const char* const kDisplacement = "displacement";
 
 }  // namespace
 
+std::vector<FrameField> frame_fields(bool water) {
+  std::vector<FrameField> fields{{kVelocity, 2}, {kDisplacement, 2}};
+  Particles widths;  // the registry's element widths: one particle of every field
+  widths.for_each_field([&](const FieldInfo& field, auto& column) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    if (field_written(field, water)) fields.push_back({field.results_name, FieldElement<T>::width});
+  });
+  return fields;
+}
+
 void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fresh) {
   const hsize_t n = particles_;
-  auto frame_set = [&](const std::string& path, const h5::Dims& record, hsize_t chunk) {
-    return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk)
+  // Frame datasets allocate their space as they grow: the ranks of a distributed solve write
+  // their rows with the parallel HDF5 (results_parallel.hpp), which writes only allocated chunks.
+  auto frame_set = [&](const std::string& path, const h5::Dims& record, hsize_t chunk, bool early) {
+    return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk, early)
                  : h5::Appendable::reopen(file_, path, record, frames);
   };
   auto history_set = [&](const char* path) {
     return fresh ? h5::Appendable(file_, path, {}, H5T_NATIVE_DOUBLE, 1024)
                  : h5::Appendable::reopen(file_, path, {}, history_rows);
   };
-  time_set_ = frame_set("frames/time", {}, 256);
+  time_set_ = frame_set("frames/time", {}, 256, false);
   frame_sets_.clear();
-  auto add = [&](const std::string& name, int width) {
-    const h5::Dims record = width == 1 ? h5::Dims{n} : h5::Dims{n, static_cast<hsize_t>(width)};
-    frame_sets_.push_back({name, width, frame_set("frames/" + name, record, 1)});
-  };
-  add(kVelocity, 2);
-  add(kDisplacement, 2);
-  Particles widths;  // the registry's element widths: one particle of every field
-  widths.for_each_field([&](const FieldInfo& field, auto& column) {
-    using T = typename std::decay_t<decltype(column)>::value_type;
-    if (field_written(field, water_)) add(field.results_name, FieldElement<T>::width);
-  });
+  for (const FrameField& field : fields()) {
+    const h5::Dims record = field.width == 1 ? h5::Dims{n} : h5::Dims{n, static_cast<hsize_t>(field.width)};
+    frame_sets_.push_back({field.name, field.width, frame_set("frames/" + field.name, record, 1, true)});
+  }
   history_time_ = history_set("history/time");
   history_kinetic_ = history_set("history/kinetic_energy");
   history_potential_ = history_set("history/potential_energy");
@@ -177,7 +190,6 @@ void ResultsWriter::write_frame_data(const Particles& P, const std::vector<Eigen
       for (int k = 0; k < set.width; ++k) scratch_[P.id[p] * set.width + k] = E::get(column[p], k);
     set.data.append(scratch_.data());
   };
-  time_set_.append(&time);
   auto set = frame_sets_.begin();
   append(*set++, velocity);
   // The displacement goes straight into the frame buffer (no column of its own).
@@ -189,12 +201,47 @@ void ResultsWriter::write_frame_data(const Particles& P, const std::vector<Eigen
     if (field_written(field, water_)) append(*set++, column);
   });
   std::vector<double>().swap(scratch_);  // 8 bytes per particle and column: not kept between frames
+  write_frame_metadata(time, steps);
+  write_xdmf();
+}
+
+void ResultsWriter::write_frame_metadata(double time, long steps) {
+  time_set_.append(&time);
   time_.push_back(time);
-  write_frame_views(file_, n, time_.size() - 1, fields());
+  write_frame_views(file_, particles_, time_.size() - 1, fields());
   flush_history();
   h5::set_attribute(file_, "/", "steps", static_cast<int64_t>(steps));
   file_.flush();
-  write_xdmf();
+}
+
+bool ResultsWriter::frames_writable_by_ranks() const {
+  for (const FrameSet& set : frame_sets_)
+    if (!set.data.allocated_early()) return false;
+  return true;
+}
+
+std::size_t ResultsWriter::begin_ranks_frame(double time, long steps) {
+  check_still_there();
+  guarded([&] {
+    for (FrameSet& set : frame_sets_) set.data.extend();
+    write_frame_metadata(time, steps);
+    // Every dataset is closed with the file: the ranks cannot open a file this process holds.
+    history_rows_ = history_time_.size();
+    for (h5::Appendable* set : {&time_set_, &history_time_, &history_kinetic_, &history_potential_, &history_strain_,
+                                &history_particle_kinetic_})
+      *set = {};
+    for (FrameSet& set : frame_sets_) set.data = {};
+    file_.close();
+  });
+  return time_.size() - 1;
+}
+
+void ResultsWriter::end_ranks_frame() {
+  guarded([&] {
+    file_ = h5::File::open_write(path_);
+    open_datasets(time_.size(), history_rows_, false);
+    write_xdmf();
+  });
 }
 
 void ResultsWriter::record_history(const Simulation& sim, const Energies& energy) {
@@ -230,12 +277,6 @@ void ResultsWriter::finish(long steps, double loop_seconds, bool complete) {
     file_.close();
     write_xdmf();
   });
-}
-
-std::vector<FrameField> ResultsWriter::fields() const {
-  std::vector<FrameField> fields;
-  for (const FrameSet& set : frame_sets_) fields.push_back({set.name, set.width});
-  return fields;
 }
 
 void ResultsWriter::write_xdmf() const {

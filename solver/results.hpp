@@ -22,6 +22,12 @@ struct ResultsPosition {
   long history_rows = 0;
 };
 
+// The frame datasets, in their order: frames/velocity (the grid velocity at the particles) and
+// frames/displacement (position less the initial position), both derived, then every field the
+// registry marks kWritten (particles.hpp), in its order; position is the XDMF geometry.
+// frames/pore_pressure only with a water table.
+std::vector<FrameField> frame_fields(bool water);
+
 class ResultsWriter {
  public:
   // Starts a new results.h5 (replacing any old one).
@@ -38,6 +44,21 @@ class ResultsWriter {
   // grid velocity at each.
   void write_frame(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time, long steps);
   void record_history(const Simulation& sim, const Energies& energy);
+
+  // A frame whose rows every rank of a distributed solve writes (results_parallel.hpp); this
+  // writer, rank 0's, does the rest. The file's frame datasets can take such rows (they allocate
+  // their space as they grow): false for the results.h5 of an older Talus being continued.
+  bool frames_writable_by_ranks() const;
+  // Everything of the next frame but its rows: the frame datasets grow by one frame, then its
+  // time, views and the pending history are written, and the file is closed for the ranks to
+  // open. Returns the frame's index.
+  std::size_t begin_ranks_frame(double time, long steps);
+  // Once the ranks have written the rows: opens the file again and writes results.xdmf.
+  void end_ranks_frame();
+  // The ranks failed to write a frame: removes results.h5 and results.xdmf, as any failed
+  // write does, and throws talus::Error with `message` saying so.
+  [[noreturn]] void abandon(const std::string& message);
+
   // Writes the pending history and the run's root attributes (complete = 1 for a run that
   // reached its end, 0 for one stopped by an error), and flushes.
   void finish(long steps, double loop_seconds, bool complete);
@@ -50,13 +71,16 @@ class ResultsWriter {
   // results.xdmf, which a failed write leaves unreadable, and throws the error saying so.
   template <class Write>
   void guarded(Write&& write);
+  [[noreturn]] void remove_after_failure(const std::string& message);
   // Throws when results.h5 is no longer the file this writer writes (deleted or replaced).
   void check_still_there() const;
   void write_frame_data(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time,
                         long steps);
+  // Appends `time` and the frame's views, writes the pending history and flushes.
+  void write_frame_metadata(double time, long steps);
   void flush_history();
   void write_xdmf() const;
-  std::vector<FrameField> fields() const;  // the frame datasets, for the XDMF and its views
+  std::vector<FrameField> fields() const { return frame_fields(water_); }
   void open_datasets(hsize_t frames, hsize_t history_rows, bool fresh);
 
   // A per-frame dataset: frames/<name>, `width` values per particle.
@@ -72,11 +96,9 @@ class ResultsWriter {
   bool water_;  // the model has a water table: frames/pore_pressure (field_written)
   h5::File file_;
   h5::Appendable time_set_;
-  // frames/velocity (the grid velocity at the particles) and frames/displacement (position less
-  // the initial position), both derived, and then every field the registry marks kWritten, in
-  // its order (particles.hpp); position is the XDMF geometry.
-  std::vector<FrameSet> frame_sets_;
+  std::vector<FrameSet> frame_sets_;  // of frame_fields(), in its order
   h5::Appendable history_time_, history_kinetic_, history_potential_, history_strain_, history_particle_kinetic_;
+  hsize_t history_rows_ = 0;  // in the file while it is closed for the ranks
   std::vector<double> time_;
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
       pending_particle_kinetic_;

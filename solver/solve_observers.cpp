@@ -25,6 +25,8 @@ Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
 void FrameWriter::write(const Simulation& sim) {
   if (!sim.domain.distributed()) {
     writer_->write_frame(sim);
+  } else if (ranks_) {
+    ranks_->write(sim, grid_velocity_at_particles(sim), writer_);
   } else {
     const std::vector<Vec2> velocity = grid_velocity_at_particles(sim);
     std::vector<Vec2> all_velocity;
@@ -92,6 +94,8 @@ Verdict Checkpointer::after_step(Simulation& sim, const StepEvent&) {
 }
 
 void Checkpointer::write(const Simulation& sim) {
+  // On several ranks the checkpoint is gathered on rank 0 even with the parallel HDF5: it is
+  // written rarely, and atomically (checkpoint.hpp), which a file the ranks share is not.
   if (!sim.domain.distributed()) {
     write_checkpoint(out_dir_, fingerprints_, sim, loop_, writer_->sync());
     return;

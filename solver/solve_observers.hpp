@@ -9,6 +9,7 @@
 #include "common/model.hpp"
 #include "solver/checkpoint.hpp"
 #include "solver/results.hpp"
+#include "solver/results_parallel.hpp"
 #include "solver/time_loop.hpp"
 
 namespace talus::solver {
@@ -18,14 +19,18 @@ namespace talus::solver {
 // interval cannot exceed time + tolerance in doubles, the next double beyond it).
 double next_multiple_after(double time, double interval, double tolerance);
 
-// On several MPI ranks only rank 0 holds a ResultsWriter (the others pass null): frames and
-// checkpoints gather the particles there (domain.hpp), and every rank takes part.
+// On several MPI ranks only rank 0 holds a ResultsWriter (the others pass null), and every rank
+// takes part in each frame and checkpoint: the ranks write their rows of a frame themselves
+// with the parallel HDF5 (RankFrames, results_parallel.hpp), or else the particles are gathered
+// on rank 0 (domain.hpp); checkpoints always gather them.
 
 // Writes a frame at every multiple of the output interval, landing the step on it.
 class FrameWriter : public Observer {
  public:
-  FrameWriter(ResultsWriter* writer, LoopState& loop, double interval, double tolerance)
-      : writer_(writer), loop_(loop), interval_(interval), tolerance_(tolerance) {}
+  // `ranks`: on several ranks with the parallel HDF5, every rank's writer of its rows (null:
+  // gather the frames on rank 0).
+  FrameWriter(ResultsWriter* writer, LoopState& loop, double interval, double tolerance, RankFrames* ranks = nullptr)
+      : writer_(writer), ranks_(ranks), loop_(loop), interval_(interval), tolerance_(tolerance) {}
   double next_landing(const Simulation&) const override { return loop_.next_output; }
   bool wants_energies(const Simulation& sim) const override { return due(sim); }
   Verdict after_step(Simulation& sim, const StepEvent&) override;
@@ -36,6 +41,7 @@ class FrameWriter : public Observer {
  private:
   bool due(const Simulation& sim) const { return sim.time >= loop_.next_output - tolerance_; }
   ResultsWriter* writer_;
+  RankFrames* ranks_;
   LoopState& loop_;
   double interval_, tolerance_;
   long last_step_ = -1;

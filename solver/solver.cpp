@@ -80,8 +80,9 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const ThreadChoice threads = choose_threads(static_cast<long>(particles) / mpi::size(), options.threads);
   Fingerprints fingerprints = model_fingerprints(model);
   // Several MPI ranks (domain.hpp): every rank builds the whole simulation from the model and
-  // keeps its share; rank 0 alone writes results.h5 and the checkpoints. Errors every rank
-  // meets alike are SharedErrors; on_root shares rank 0's.
+  // keeps its share; rank 0 alone writes results.h5 (but for the frames' rows, which every rank
+  // writes with the parallel HDF5) and the checkpoints. Errors every rank meets alike are
+  // SharedErrors; on_root shares rank 0's.
   const bool distributed = mpi::distributed();
   const bool root = mpi::rank() == 0;
   auto shared = [&](auto&& build) {
@@ -97,6 +98,13 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   Simulation sim;
   LoopState loop;
   std::optional<ResultsWriter> writer;
+  // Several ranks with the parallel HDF5: each rank writes its rows of the frames (made before
+  // the model's columns move into the simulation).
+  std::optional<RankFrames> rank_frames;
+  auto start_rank_frames = [&] {
+    if (RankFrames::wanted(writer ? &*writer : nullptr))
+      rank_frames.emplace(model, (std::filesystem::path(options.out_dir) / "results.h5").string());
+  };
   const std::string checkpoint = checkpoint_path(options.out_dir);
   if (options.restart) {
     shared([&] {
@@ -104,6 +112,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       ResultsPosition position;
       read_checkpoint(options.out_dir, model, sim, loop, position);
       on_root([&] { writer.emplace(options.out_dir, model, position); });
+      start_rank_frames();
       log << "restarting from " << checkpoint << " at step " << sim.steps << ", t = " << sim.time << " s ("
           << position.frames << " frames kept)\n";
     });
@@ -115,6 +124,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       // The results' initial state comes from the model's columns before they move.
       writer.emplace(options.out_dir, model);
     });
+    start_rank_frames();
     try {
       shared([&] { sim = owned ? make_simulation(std::move(*owned), threads.threads) : make_simulation(model, threads.threads); });
       distribute(sim);
@@ -134,7 +144,8 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
     loop.budget_limit = budget.limit();
     loop.next_output = run.output_interval;
     if (writer) writer->record_history(sim, initial);
-    FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0).write(sim);
+    FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0, rank_frames ? &*rank_frames : nullptr)
+        .write(sim);
     loop.next_output = run.output_interval;
   }
   sim.scratch.phase_times = options.phase_times;
@@ -147,7 +158,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   HistoryRecorder history(results, run.history_interval);
   RestDetector rest(loop, run.rest_ratio, run.rest_window);
   StepLimit step_limit(run.max_steps);
-  FrameWriter frames(results, loop, run.output_interval, tolerance);
+  FrameWriter frames(results, loop, run.output_interval, tolerance, rank_frames ? &*rank_frames : nullptr);
   ProgressLine progress(options.progress && root, run.end_time);
   Checkpointer checkpoints(options.out_dir, std::move(fingerprints), results, loop, options.checkpoint_interval, tolerance, sim.time);
   const std::vector<Observer*> observers{&sorter, &budget,   &history,     &rest,        &step_limit,
