@@ -141,8 +141,10 @@ int run_command(const cli::Arguments& args) {
   const bool version_flag = args.flags.size() == 1 && args.flags.front() == "--version" && args.command.empty();
   if (version_flag || args.command == "version") {
     std::cout << "talus " << TALUS_VERSION
-              << (solver::mpi::built_with_mpi() ? " (with MPI: solve --ranks N, or mpirun -n N talus solve)"
-                                                : " (without MPI: one rank)")
+              << (!solver::mpi::built_with_mpi() ? " (without MPI: one rank)"
+                  : solver::mpi::parallel_hdf5()
+                      ? " (with MPI and parallel HDF5: solve --ranks N, or mpirun -n N talus solve)"
+                      : " (with MPI: solve --ranks N, or mpirun -n N talus solve)")
               << "\n";
     return 0;
   }

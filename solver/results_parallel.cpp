@@ -65,7 +65,7 @@ std::string write_block(const std::string& path, hsize_t frame, hsize_t first, h
     check(H5Dwrite(dataset.id(), H5T_NATIVE_DOUBLE, memory_space.id(), file_space.id(), dxpl.id(), block[s].data()) >= 0,
           name, "cannot write the frame's rows (disk full, or over the file size limit?)");
   }
-  check(H5Fclose(file.release()) >= 0, "", "cannot write HDF5 file (disk full, or over the file size limit?)");
+  check(H5Fclose(file.release()) >= 0, "", "cannot write HDF5 file with MPI-IO (disk full, or over the file size limit?)");
   return failure;
 }
 

@@ -207,6 +207,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   summary.halo_bytes_per_step = sim.steps > 0 ? sim.domain.halo_bytes / static_cast<double>(sim.steps) : 0;
   summary.migrated = sim.domain.migrated;
   summary.repartitions = sim.domain.repartitions;
+  summary.frames_by_ranks = rank_frames.has_value();
   if (distributed) {
     summary.halo_bytes_per_step = mpi::sum_in_rank_order(summary.halo_bytes_per_step);
     summary.migrated = mpi::sum(summary.migrated);
@@ -242,7 +243,9 @@ void print_summary(const SolveSummary& s, std::ostream& out) {
   if (s.ranks > 1)
     out << "  on " << s.ranks << " MPI ranks: " << std::fixed << std::setprecision(0) << s.halo_bytes_per_step
         << " bytes exchanged at shared nodes per step (all ranks), " << s.migrated << " particle migrations, "
-        << s.repartitions << " repartitions\n" << std::defaultfloat;
+        << s.repartitions << " repartitions"
+        << (s.frames_by_ranks ? ", frames written by every rank (parallel HDF5)" : ", frames gathered on rank 0") << "\n"
+        << std::defaultfloat;
 }
 
 }  // namespace talus::solver

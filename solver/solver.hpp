@@ -43,6 +43,7 @@ struct SolveSummary {
   double halo_bytes_per_step = 0;  // bytes sent at shared nodes per step, all ranks together
   long migrated = 0;               // particles that moved to another rank, all ranks together
   long repartitions = 0;
+  bool frames_by_ranks = false;    // every rank wrote its rows of the frames (results_parallel.hpp)
   double particle_updates_per_second() const {
     return loop_seconds > 0 ? static_cast<double>(particles) * steps / loop_seconds : 0;
   }
