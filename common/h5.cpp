@@ -237,6 +237,29 @@ std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* 
   return read_numbers<int32_t>(file, path, dims, H5T_NATIVE_INT32);
 }
 
+std::vector<double> read_double_rows(const File& file, const std::string& path, hsize_t first, hsize_t count) {
+  if (!exists(file, path)) fail(file, path, "missing dataset");
+  const Dims dims = shape(file, path);
+  if (dims.empty() || first + count > dims[0])
+    fail(file, path, "expected at least " + std::to_string(first + count) + " rows");
+  Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));
+  Dims start{first}, size{count};
+  hsize_t values = count;
+  for (std::size_t d = 1; d < dims.size(); ++d) {
+    start.push_back(0);
+    size.push_back(dims[d]);
+    values *= dims[d];
+  }
+  std::vector<double> data(values);
+  if (values == 0) return data;
+  Handle file_space(H5Dget_space(dataset.id()));
+  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, size.data(), nullptr);
+  Handle memory_space(H5Screate_simple(static_cast<int>(size.size()), size.data(), nullptr));
+  if (H5Dread(dataset.id(), H5T_NATIVE_DOUBLE, memory_space.id(), file_space.id(), H5P_DEFAULT, data.data()) < 0)
+    fail(file, path, "cannot read rows (truncated or of the wrong type)");
+  return data;
+}
+
 std::vector<std::string> read_strings(const File& file, const std::string& path) {
   if (!exists(file, path)) fail(file, path, "missing dataset");
   Handle dataset(check(H5Dopen2(file.id(), path.c_str(), H5P_DEFAULT), file, path, "cannot open dataset"));

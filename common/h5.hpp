@@ -68,6 +68,9 @@ void write(const File& file, const std::string& path, const std::vector<std::str
 
 std::vector<double> read_doubles(const File& file, const std::string& path, Dims* dims = nullptr);
 std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* dims = nullptr);
+// Rows [first, first + count) of a dataset of doubles along its first axis (all of every other
+// axis), row-major. Throws talus::Error when the dataset is missing or has fewer rows.
+std::vector<double> read_double_rows(const File& file, const std::string& path, hsize_t first, hsize_t count);
 std::vector<std::string> read_strings(const File& file, const std::string& path);
 
 // Names of the members of a group, in creation-independent (alphabetical) order.
@@ -93,20 +96,24 @@ std::vector<double> get_doubles(const File& file, const std::string& path, const
 class Appendable {
  public:
   Appendable() = default;
-  // chunk_rows: records per HDF5 chunk (1 for large records such as frames, more for small ones).
+  // chunk_rows: records per HDF5 chunk (1 for large records such as frames, more for small ones);
+  // record_chunk: at most this many rows of a record's first axis per chunk (0: all of them), so
+  // that a large record is written piece by piece (write_rows) without a whole-record buffer.
   // allocate_early: the file space of new records is allocated as the dataset grows (extend),
   // not when they are written, and never filled: the parallel HDF5 can write only chunks that
   // have their space (solver/results_parallel.hpp).
   Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE,
-             hsize_t chunk_rows = 1, bool allocate_early = false);
+             hsize_t chunk_rows = 1, bool allocate_early = false, hsize_t record_chunk = 0);
   // An existing appendable dataset of `file` (opened for writing), cut back to its first
   // `keep` records so that appending continues from there. Throws talus::Error when the
   // dataset is missing, of another record shape, or shorter than `keep`.
   static Appendable reopen(const File& file, const std::string& path, const Dims& record, hsize_t keep,
                            hid_t type = H5T_NATIVE_DOUBLE);
   void append(const void* records, hsize_t rows = 1);
-  // Grows the dataset by `rows` records left for another writer to fill.
+  // Grows the dataset by `rows` records left for another writer to fill (or write_rows).
   void extend(hsize_t rows = 1);
+  // Writes rows [first, first + count) of the first axis of record `index` (already extended).
+  void write_rows(hsize_t index, hsize_t first, hsize_t count, const void* rows);
   hsize_t size() const { return count_; }
   // The dataset allocates its file space as it grows (allocate_early above).
   bool allocated_early() const;

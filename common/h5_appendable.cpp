@@ -8,7 +8,7 @@
 namespace talus::h5 {
 
 Appendable::Appendable(const File& file, const std::string& path, const Dims& record, hid_t type,
-                       hsize_t chunk_rows, bool allocate_early)
+                       hsize_t chunk_rows, bool allocate_early, hsize_t record_chunk)
     : record_(record), type_(type), where_(file.path() + ": " + path) {
   Dims dims{0}, max_dims{H5S_UNLIMITED}, chunk{std::max<hsize_t>(chunk_rows, 1)};
   for (hsize_t d : record) {
@@ -16,6 +16,7 @@ Appendable::Appendable(const File& file, const std::string& path, const Dims& re
     max_dims.push_back(d);
     chunk.push_back(std::max<hsize_t>(d, 1));
   }
+  if (record_chunk > 0 && chunk.size() > 1) chunk[1] = std::min(chunk[1], record_chunk);
   Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), max_dims.data()));
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
   H5Pset_chunk(dcpl.id(), static_cast<int>(chunk.size()), chunk.data());
@@ -41,6 +42,22 @@ void Appendable::append(const void* records, hsize_t rows) {
   H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
   if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
+    throw Error(where_ + ": cannot write record");
+}
+
+void Appendable::write_rows(hsize_t index, hsize_t first, hsize_t count, const void* rows) {
+  if (count == 0) return;
+  if (record_.empty() || index >= count_ || first + count > record_[0])
+    throw Error(where_ + ": internal error: rows outside the dataset");
+  Dims start{index, first}, size{1, count};
+  for (std::size_t d = 1; d < record_.size(); ++d) {
+    start.push_back(0);
+    size.push_back(record_[d]);
+  }
+  Handle file_space(H5Dget_space(dataset_.id()));
+  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, size.data(), nullptr);
+  Handle memory_space(H5Screate_simple(static_cast<int>(size.size()), size.data(), nullptr));
+  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, rows) < 0)
     throw Error(where_ + ": cannot write record");
 }
 

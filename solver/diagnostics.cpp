@@ -78,20 +78,26 @@ Energies energies(const Simulation& sim) {
   return {all[0], all[1], all[2], all[3]};
 }
 
+Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
+  const Particles& P = sim.particles;
+  if (sim.steps == 0) return P.v[p];  // no grid field yet: the initial velocities
+  if (p >= P.moving_count) return Vec2::Zero();
+  const Stencil& S = sim.scratch.stencil;
+  const Grid& grid = sim.scratch.grids.fields[sim.scratch.grids.field_of(P.body[p])];
+  const double* N = S.weights(p);
+  const int32_t* nodes = S.nodes(p);
+  Vec2 velocity = Vec2::Zero();
+  for (int k = 0; k < S.width; ++k) velocity += N[k] * grid.v[nodes[k]];
+  return velocity;
+}
+
 std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
   const Particles& P = sim.particles;
-  if (sim.steps == 0) return P.v;  // no grid field yet: the initial velocities
-  std::vector<Vec2> velocity(P.size(), Vec2::Zero());
-  const Stencil& S = sim.scratch.stencil;
-  const Grids& grids = sim.scratch.grids;
-  const long moving = static_cast<long>(P.moving_count);
+  if (sim.steps == 0) return P.v;
+  std::vector<Vec2> velocity(P.size());
+  const long count = static_cast<long>(P.size());
 #pragma omp parallel for schedule(static) num_threads(sim.config.threads)
-  for (long p = 0; p < moving; ++p) {
-    const Grid& grid = grids.fields[grids.field_of(P.body[p])];
-    const double* N = S.weights(p);
-    const int32_t* nodes = S.nodes(p);
-    for (int k = 0; k < S.width; ++k) velocity[p] += N[k] * grid.v[nodes[k]];
-  }
+  for (long p = 0; p < count; ++p) velocity[p] = grid_velocity_at_particle(sim, static_cast<std::size_t>(p));
   return velocity;
 }
 

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <tuple>
 
@@ -64,7 +65,6 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model)
     : path_((std::filesystem::path(out_dir) / "results.h5").string()),
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
-      initial_position_(model.position),
       water_(model.water.enabled()),
       file_(h5::File::create(path_)) {
   std::tie(device_, inode_) = identity(path_);
@@ -100,7 +100,6 @@ ResultsWriter::ResultsWriter(const std::string& out_dir, const Model& model, con
     : path_((std::filesystem::path(out_dir) / "results.h5").string()),
       xdmf_path_((std::filesystem::path(out_dir) / "results.xdmf").string()),
       particles_(model.particle_count()),
-      initial_position_(model.position),
       water_(model.water.enabled()),
       file_(open_existing(path_)) {
   std::tie(device_, inode_) = identity(path_);
@@ -139,8 +138,9 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
   const hsize_t n = particles_;
   // Frame datasets allocate their space as they grow: the ranks of a distributed solve write
   // their rows with the parallel HDF5 (results_parallel.hpp), which writes only allocated chunks.
-  auto frame_set = [&](const std::string& path, const h5::Dims& record, hsize_t chunk, bool early) {
-    return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk, early)
+  auto frame_set = [&](const std::string& path, const h5::Dims& record, hsize_t chunk, bool early,
+                       hsize_t record_chunk = 0) {
+    return fresh ? h5::Appendable(file_, path, record, H5T_NATIVE_DOUBLE, chunk, early, record_chunk)
                  : h5::Appendable::reopen(file_, path, record, frames);
   };
   auto history_set = [&](const char* path) {
@@ -151,7 +151,7 @@ void ResultsWriter::open_datasets(hsize_t frames, hsize_t history_rows, bool fre
   frame_sets_.clear();
   for (const FrameField& field : fields()) {
     const h5::Dims record = field.width == 1 ? h5::Dims{n} : h5::Dims{n, static_cast<hsize_t>(field.width)};
-    frame_sets_.push_back({field.name, field.width, frame_set("frames/" + field.name, record, 1, true)});
+    frame_sets_.push_back({field.name, field.width, frame_set("frames/" + field.name, record, 1, true, kFrameBlock)});
   }
   history_time_ = history_set("history/time");
   history_kinetic_ = history_set("history/kinetic_energy");
@@ -170,37 +170,72 @@ ResultsPosition ResultsWriter::sync() {
 }
 
 void ResultsWriter::write_frame(const Simulation& sim) {
-  write_frame(sim.particles, grid_velocity_at_particles(sim), sim.time, sim.steps);
+  check_still_there();
+  guarded([&] {
+    write_frame_data(
+        sim.particles, [&](std::size_t p) { return grid_velocity_at_particle(sim, p); }, sim.config.threads, sim.time,
+        sim.steps);
+  });
 }
 
 void ResultsWriter::write_frame(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time,
                                 long steps) {
   check_still_there();
-  guarded([&] { write_frame_data(particles, velocity, time, steps); });
+  guarded([&] { write_frame_data(particles, [&](std::size_t p) { return velocity[p]; }, 1, time, steps); });
 }
 
-void ResultsWriter::write_frame_data(const Particles& P, const std::vector<Eigen::Vector2d>& velocity, double time,
-                                     long steps) {
+void ResultsWriter::write_frame_data(const Particles& P, const std::function<Eigen::Vector2d(std::size_t)>& velocity,
+                                     int threads, double time, long steps) {
   const std::size_t n = particles_;
-  // Frames are in the model's particle order (the solver keeps its own, sorted, order).
-  auto append = [&](FrameSet& set, const auto& column) {
-    using E = FieldElement<typename std::decay_t<decltype(column)>::value_type>;
-    scratch_.assign(n * set.width, 0.0);
-    for (std::size_t p = 0; p < n; ++p)
-      for (int k = 0; k < set.width; ++k) scratch_[P.id[p] * set.width + k] = E::get(column[p], k);
-    set.data.append(scratch_.data());
+  // Frames are in the model's particle order (the solver keeps its own, sorted, order): where[id]
+  // is the solver's index of the model's particle id.
+  if (n > std::numeric_limits<uint32_t>::max()) throw Error("internal error: more than 2^32 particles in one frame");
+  std::vector<uint32_t> where(n);
+  for (std::size_t p = 0; p < n; ++p) where[static_cast<std::size_t>(P.id[p])] = static_cast<uint32_t>(p);
+  const std::size_t block = std::min<std::size_t>(n, kFrameBlock);
+  std::vector<double> rows;
+  // One frame dataset, a block of ids at a time; value(p, out) writes the row of solver index p.
+  auto write_set = [&](FrameSet& set, const auto& value) {
+    set.data.extend();
+    const std::size_t width = static_cast<std::size_t>(set.width);
+    rows.resize(block * width);
+    for (std::size_t first = 0; first < n; first += block) {
+      const long count = static_cast<long>(std::min(block, n - first));
+#pragma omp parallel for schedule(static) num_threads(threads)
+      for (long i = 0; i < count; ++i) {
+        value(where[first + static_cast<std::size_t>(i)], rows.data() + static_cast<std::size_t>(i) * width);
+      }
+      set.data.write_rows(set.data.size() - 1, first, static_cast<hsize_t>(count), rows.data());
+    }
   };
   auto set = frame_sets_.begin();
-  append(*set++, velocity);
-  // The displacement goes straight into the frame buffer (no column of its own).
-  scratch_.assign(n * 2, 0.0);
-  for (std::size_t p = 0; p < n; ++p)
-    for (int k = 0; k < 2; ++k) scratch_[P.id[p] * 2 + k] = P.x[p][k] - initial_position_[P.id[p]][k];
-  (set++)->data.append(scratch_.data());
-  P.for_each_field([&](const FieldInfo& field, const auto& column) {
-    if (field_written(field, water_)) append(*set++, column);
+  write_set(*set++, [&](std::size_t p, double* out) {
+    const Eigen::Vector2d v = velocity(p);
+    out[0] = v.x(), out[1] = v.y();
   });
-  std::vector<double>().swap(scratch_);  // 8 bytes per particle and column: not kept between frames
+  // The displacement: the position less the initial position, read back from this file a block
+  // at a time (no column of either is kept).
+  {
+    FrameSet& displacement = *set++;
+    displacement.data.extend();
+    rows.resize(block * 2);
+    for (std::size_t first = 0; first < n; first += block) {
+      const std::size_t count = std::min(block, n - first);
+      const std::vector<double> initial = h5::read_double_rows(file_, "particles/initial_position", first, count);
+      for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t p = where[first + i];
+        for (int k = 0; k < 2; ++k) rows[i * 2 + k] = P.x[p][k] - initial[i * 2 + k];
+      }
+      displacement.data.write_rows(displacement.data.size() - 1, first, count, rows.data());
+    }
+  }
+  P.for_each_field([&](const FieldInfo& field, const auto& column) {
+    using E = FieldElement<typename std::decay_t<decltype(column)>::value_type>;
+    if (field_written(field, water_))
+      write_set(*set++, [&](std::size_t p, double* out) {
+        for (int k = 0; k < E::width; ++k) out[k] = E::get(column[p], k);
+      });
+  });
   write_frame_metadata(time, steps);
   write_xdmf();
 }

@@ -6,6 +6,7 @@
 // and results.xdmf (unreadable by then) and stops the run, and so does results.h5 deleted or
 // replaced while the run writes it.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,10 @@
 #include "solver/simulation.hpp"
 
 namespace talus::solver {
+
+// Particles per chunk of a frame dataset (frames/<field>: one frame by kFrameBlock rows), and per
+// piece of a frame as the writer fills and writes it: 2 MB for a 4-wide field.
+inline constexpr std::size_t kFrameBlock = std::size_t{1} << 16;
 
 // How far a results.h5 has been written: what a checkpoint records, and a restart keeps.
 struct ResultsPosition {
@@ -74,8 +79,11 @@ class ResultsWriter {
   [[noreturn]] void remove_after_failure(const std::string& message);
   // Throws when results.h5 is no longer the file this writer writes (deleted or replaced).
   void check_still_there() const;
-  void write_frame_data(const Particles& particles, const std::vector<Eigen::Vector2d>& velocity, double time,
-                        long steps);
+  // Writes the frame's rows in model order, kFrameBlock particles at a time (the frame
+  // datasets' chunks), so that no buffer of a whole frame is needed; velocity(p) is the grid
+  // velocity at the solver's particle p, computed as the block needs it, on `threads` threads.
+  void write_frame_data(const Particles& particles, const std::function<Eigen::Vector2d(std::size_t)>& velocity,
+                        int threads, double time, long steps);
   // Appends `time` and the frame's views, writes the pending history and flushes.
   void write_frame_metadata(double time, long steps);
   void flush_history();
@@ -92,7 +100,6 @@ class ResultsWriter {
   std::string path_, xdmf_path_;
   unsigned long long device_ = 0, inode_ = 0;  // of results.h5 when this writer opened it
   std::size_t particles_;
-  std::vector<Eigen::Vector2d> initial_position_;  // the model's, in its order
   bool water_;  // the model has a water table: frames/pore_pressure (field_written)
   h5::File file_;
   h5::Appendable time_set_;
@@ -102,7 +109,6 @@ class ResultsWriter {
   std::vector<double> time_;
   std::vector<double> pending_time_, pending_kinetic_, pending_potential_, pending_strain_,
       pending_particle_kinetic_;
-  std::vector<double> scratch_;
 };
 
 }  // namespace talus::solver

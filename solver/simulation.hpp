@@ -138,5 +138,7 @@ Energies energies(const Simulation& sim);
 // The grid velocity at each particle, sum N_ip v_i with the last step's remapped velocities:
 // the velocity that moves it (A.12), free of the FLIP components the grid cannot see.
 std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim);
+// The same at the solver's particle p alone (the results writer's frames, a block at a time).
+Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p);
 
 }  // namespace talus::solver
