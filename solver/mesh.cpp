@@ -12,7 +12,8 @@ Mesh build_mesh(const Model& model) {
   mesh.triangles = model.triangles;
   mesh.neighbours = model.neighbours;
   const std::size_t count = mesh.triangles.size();
-  mesh.shape.resize(count);
+  mesh.constant.resize(count);
+  auto gradients = std::make_shared<std::vector<Vec2>>(count * 3);
   mesh.area.resize(count);
   mesh.h_min = std::numeric_limits<double>::infinity();
   for (std::size_t e = 0; e < count; ++e) {
@@ -27,14 +28,14 @@ Mesh build_mesh(const Model& model) {
       // N_k = (a_k + b_k x + c_k y) / 2A with (k, i, j) cyclic.
       const Vec2& xi = x[(k + 1) % 3];
       const Vec2& xj = x[(k + 2) % 3];
-      mesh.shape[e](k, 0) = (xi.x() * xj.y() - xj.x() * xi.y()) / twice_area;
-      mesh.shape[e](k, 1) = (xi.y() - xj.y()) / twice_area;
-      mesh.shape[e](k, 2) = (xj.x() - xi.x()) / twice_area;
+      mesh.constant[e][k] = (xi.x() * xj.y() - xj.x() * xi.y()) / twice_area;
+      (*gradients)[e * 3 + k] = Vec2((xi.y() - xj.y()) / twice_area, (xj.x() - xi.x()) / twice_area);
       longest = std::max(longest, (xj - xi).norm());
     }
     mesh.area[e] = 0.5 * twice_area;
     mesh.h_min = std::min(mesh.h_min, twice_area / longest);
   }
+  mesh.gradients = std::move(gradients);
   return mesh;
 }
 

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/model.hpp"
@@ -15,13 +16,15 @@ using Vec3 = Eigen::Vector3d;
 using Vec4 = Eigen::Vector4d;  // stress or strain: (xx, yy, zz, xy), tension positive
 
 // Linear triangles. For element e, the shape function of local node k at x is
-//   N_k(x) = shape[e](k,0) + shape[e](k,1) x + shape[e](k,2) y,
-// so its gradient, constant over the element, is (shape[e](k,1), shape[e](k,2)).
+//   N_k(x) = constant[e][k] + gradient(e, k).x x + gradient(e, k).y y,
+// its gradient constant over the element. The gradients are one table, [e * 3 + k], that the
+// linear-triangle stencil reads as its own (stencil.hpp): held once, shared by both.
 struct Mesh {
   std::vector<Vec2> nodes;
   std::vector<std::array<int32_t, 3>> triangles;
   std::vector<std::array<int32_t, 3>> neighbours;  // across the edge opposite local node k; -1: boundary
-  std::vector<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> shape;
+  std::vector<Vec3> constant;
+  std::shared_ptr<const std::vector<Vec2>> gradients;  // grad N_k (1/m) of element e at [e * 3 + k]
   std::vector<double> area;
   double h_min = 0;  // smallest element height (twice the area over the longest edge)
 
@@ -29,11 +32,12 @@ struct Mesh {
   std::size_t element_count() const { return triangles.size(); }
 
   Vec3 weights(int32_t e, const Vec2& x) const {
-    const auto& c = shape[e];
-    return {c(0, 0) + c(0, 1) * x.x() + c(0, 2) * x.y(), c(1, 0) + c(1, 1) * x.x() + c(1, 2) * x.y(),
-            c(2, 0) + c(2, 1) * x.x() + c(2, 2) * x.y()};
+    const Vec3& c = constant[e];
+    const Vec2* g = gradients->data() + static_cast<std::size_t>(e) * 3;
+    return {c[0] + g[0].x() * x.x() + g[0].y() * x.y(), c[1] + g[1].x() * x.x() + g[1].y() * x.y(),
+            c[2] + g[2].x() * x.x() + g[2].y() * x.y()};
   }
-  Vec2 gradient(int32_t e, int k) const { return {shape[e](k, 1), shape[e](k, 2)}; }
+  Vec2 gradient(int32_t e, int k) const { return (*gradients)[static_cast<std::size_t>(e) * 3 + k]; }
 };
 
 Mesh build_mesh(const Model& model);

@@ -216,14 +216,12 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
   stencil.width = 3;
   stencil.N.assign(particles * stencil.width, 0);
   stencil.row.assign(particles, 0);
-  // Linear triangles: row e holds element e's nodes and the gradients of their shape functions.
+  // Linear triangles: row e holds element e's nodes and the gradients of their shape functions,
+  // the mesh's table itself.
   stencil.row_node.resize(mesh.element_count() * stencil.width);
-  stencil.row_dN.resize(mesh.element_count() * stencil.width);
   for (std::size_t e = 0; e < mesh.element_count(); ++e)
-    for (int k = 0; k < 3; ++k) {
-      stencil.row_node[e * 3 + k] = mesh.triangles[e][k];
-      stencil.row_dN[e * 3 + k] = mesh.gradient(static_cast<int32_t>(e), k);
-    }
+    for (int k = 0; k < 3; ++k) stencil.row_node[e * 3 + k] = mesh.triangles[e][k];
+  stencil.row_dN = mesh.gradients;
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,

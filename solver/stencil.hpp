@@ -7,13 +7,14 @@
 // row of tables that particles may share (nodes(p) and gradients(p) point at row[p]'s). For
 // linear triangles the nodes and the gradients are those of the element, so the tables have
 // one row per element, built once, and a particle's row is its element: per particle only the
-// weights and the row are stored. A family whose nodes or gradients differ per particle (CPDI)
+// weights and the row are stored, and the gradient table is the mesh's own (Mesh::gradients). A family whose nodes or gradients differ per particle (CPDI)
 // keeps one row per particle and refills it with the weights. A family whose particles touch
 // fewer nodes than its width pads a row with weight 0 and gradient 0 on one of the particle's
 // own nodes, which adds nothing anywhere. The particle's cell (the element that contains it, Particles::element) stays with
 // the particles: relocation finds it, and EVS averages over cells.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -32,12 +33,13 @@ struct Stencil {
   std::vector<double> N;          // N_ip, [p * width + k]
   std::vector<int32_t> row;       // [p]: p's row of the shared tables
   std::vector<int32_t> row_node;  // node ids, [row * width + k]
-  std::vector<Vec2> row_dN;       // grad N_ip (1/m), [row * width + k]
+  // grad N_ip (1/m), [row * width + k]: shared, never written through (linear triangles: the mesh's).
+  std::shared_ptr<const std::vector<Vec2>> row_dN;
 
   // The `width` weights, node ids and gradients of particle p, in the order of its entries.
   const double* weights(std::size_t p) const { return N.data() + p * static_cast<std::size_t>(width); }
   const int32_t* nodes(std::size_t p) const { return row_node.data() + offset(p); }
-  const Vec2* gradients(std::size_t p) const { return row_dN.data() + offset(p); }
+  const Vec2* gradients(std::size_t p) const { return row_dN->data() + offset(p); }
 
  private:
   std::size_t offset(std::size_t p) const {
