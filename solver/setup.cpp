@@ -221,7 +221,7 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
   stencil.row_node.resize(mesh.element_count() * stencil.width);
   for (std::size_t e = 0; e < mesh.element_count(); ++e)
     for (int k = 0; k < 3; ++k) stencil.row_node[e * 3 + k] = mesh.triangles[e][k];
-  stencil.row_dN = mesh.gradients;
+  stencil.share_gradients(mesh.gradients);
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,

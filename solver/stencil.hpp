@@ -33,15 +33,21 @@ struct Stencil {
   std::vector<double> N;          // N_ip, [p * width + k]
   std::vector<int32_t> row;       // [p]: p's row of the shared tables
   std::vector<int32_t> row_node;  // node ids, [row * width + k]
-  // grad N_ip (1/m), [row * width + k]: shared, never written through (linear triangles: the mesh's).
+  // grad N_ip (1/m), [row * width + k]: shared, never written through (linear triangles: the
+  // mesh's). A copy of the stencil shares it too, so the raw pointer the phases read stays valid.
   std::shared_ptr<const std::vector<Vec2>> row_dN;
+  void share_gradients(std::shared_ptr<const std::vector<Vec2>> table) {
+    row_dN = std::move(table);
+    dN_ = row_dN->data();
+  }
 
   // The `width` weights, node ids and gradients of particle p, in the order of its entries.
   const double* weights(std::size_t p) const { return N.data() + p * static_cast<std::size_t>(width); }
   const int32_t* nodes(std::size_t p) const { return row_node.data() + offset(p); }
-  const Vec2* gradients(std::size_t p) const { return row_dN->data() + offset(p); }
+  const Vec2* gradients(std::size_t p) const { return dN_ + offset(p); }
 
  private:
+  const Vec2* dN_ = nullptr;  // row_dN->data()
   std::size_t offset(std::size_t p) const {
     return static_cast<std::size_t>(row[p]) * static_cast<std::size_t>(width);
   }
