@@ -10,6 +10,8 @@
 //   build/bin/talus_bench_throughput --sizes 50k,400k      a quick sweep (no 2M, 10M)
 //   build/bin/talus_bench_throughput --threads 2 --repeats 5 --csv out.csv
 //   build/bin/talus_bench_throughput --case 50000 2        one case (used by the above)
+//   build/bin/talus_bench_throughput --model M.h5 2         a scene's model (talus mesh), its own
+//                                                          run settings: rate and time per phase
 #include <omp.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -93,6 +95,32 @@ int run_case(long target, int threads) {
               summary.loop_seconds, build_seconds, model_file_seconds, summary.setup_seconds);
   for (double s : phases.seconds) std::printf(" %.5f", s);
   std::printf("\n");
+  return 0;
+}
+
+// A scene's model.h5 as `talus solve` runs it (its run settings: set run.max_steps when meshing),
+// with the phase timer: the rate and the time per phase in ns per particle-update, readable.
+int run_model(const std::string& model_file, int threads) {
+  const auto folder = std::filesystem::temp_directory_path() / ("talus-bench-" + std::to_string(getpid()));
+  std::filesystem::create_directories(folder);
+  talus::solver::SolveOptions options;
+  options.out_dir = folder.string();
+  options.progress = false;
+  options.threads = threads;
+  PhaseTimes phases;
+  options.phase_times = &phases;
+  std::ostringstream ignored;
+  const auto summary = talus::solver::solve(talus::read_model(model_file), options, ignored);
+  std::filesystem::remove_all(folder);
+  const double updates = static_cast<double>(summary.particles) * static_cast<double>(summary.steps);
+  std::printf("%zu particles, %ld steps, %d threads: time loop %.3f s, %.4e particle-updates/s\n", summary.particles,
+              summary.steps, summary.threads, summary.loop_seconds, summary.particle_updates_per_second());
+  double phased = 0;
+  for (int i = 0; i < kPhases; ++i) {
+    phased += phases.seconds[i];
+    std::printf("  %-28s %7.2f ns\n", PhaseTimes::kNames[i], 1e9 * phases.seconds[i] / updates);
+  }
+  std::printf("  %-28s %7.2f ns\n", "other", 1e9 * (summary.loop_seconds - phased) / updates);
   return 0;
 }
 
@@ -183,6 +211,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       if (arg == "--case" && i + 2 < argc) return run_case(std::atol(argv[i + 1]), std::atoi(argv[i + 2]));
+      if (arg == "--model" && i + 2 < argc) return run_model(argv[i + 1], std::max(1, std::atoi(argv[i + 2])));
       if (arg == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
       else if (arg == "--csv" && i + 1 < argc) csv = argv[++i];
       else if (arg == "--sizes" && i + 1 < argc) sizes = parse_list<long>(argv[++i], parse_size);
@@ -191,8 +220,9 @@ int main(int argc, char** argv) {
       else {
         std::fprintf(stderr,
                      "usage: %s [--sizes 50k,400k,2M,10M] [--threads 1,%d] [--repeats N] [--csv FILE]\n"
-                     "       %s --case PARTICLES THREADS\n",
-                     argv[0], cores, argv[0]);
+                     "       %s --case PARTICLES THREADS\n"
+                     "       %s --model MODEL.h5 THREADS\n",
+                     argv[0], cores, argv[0], argv[0]);
         return arg == "--help" || arg == "-h" ? 0 : 1;
       }
     }
