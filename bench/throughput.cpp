@@ -63,6 +63,20 @@ struct Measurement {
   double phase[kPhases] = {};                                                  // s over the loop
 };
 
+// solve() into `folder` (removed afterwards) on `threads` threads with the phase timer.
+talus::solver::SolveSummary solve_timed(Model&& model, const std::filesystem::path& folder, int threads,
+                                        PhaseTimes& phases) {
+  talus::solver::SolveOptions options;
+  options.out_dir = folder.string();
+  options.progress = false;
+  options.threads = threads;
+  options.phase_times = &phases;
+  std::ostringstream ignored;
+  const auto summary = talus::solver::solve(std::move(model), options, ignored);
+  std::filesystem::remove_all(folder);
+  return summary;
+}
+
 // The child: one case, one line of numbers on stdout.
 int run_case(long target, int threads) {
   const auto folder = std::filesystem::temp_directory_path() / ("talus-bench-" + std::to_string(getpid()));
@@ -79,15 +93,8 @@ int run_case(long target, int threads) {
   Model model = talus::read_model(model_file);
   const double model_file_seconds = since(start);
 
-  talus::solver::SolveOptions options;
-  options.out_dir = folder.string();
-  options.progress = false;
-  options.threads = threads;
   PhaseTimes phases;
-  options.phase_times = &phases;
-  std::ostringstream ignored;
-  const auto summary = talus::solver::solve(std::move(model), options, ignored);
-  std::filesystem::remove_all(folder);
+  const auto summary = solve_timed(std::move(model), folder, threads, phases);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   std::printf("%zu %ld %d %.6e %.2f %.4f %.4f %.4f %.4f", summary.particles, summary.steps, summary.threads,
@@ -103,15 +110,8 @@ int run_case(long target, int threads) {
 int run_model(const std::string& model_file, int threads) {
   const auto folder = std::filesystem::temp_directory_path() / ("talus-bench-" + std::to_string(getpid()));
   std::filesystem::create_directories(folder);
-  talus::solver::SolveOptions options;
-  options.out_dir = folder.string();
-  options.progress = false;
-  options.threads = threads;
   PhaseTimes phases;
-  options.phase_times = &phases;
-  std::ostringstream ignored;
-  const auto summary = talus::solver::solve(talus::read_model(model_file), options, ignored);
-  std::filesystem::remove_all(folder);
+  const auto summary = solve_timed(talus::read_model(model_file), folder, threads, phases);
   const double updates = static_cast<double>(summary.particles) * static_cast<double>(summary.steps);
   std::printf("%zu particles, %ld steps, %d threads: time loop %.3f s, %.4e particle-updates/s\n", summary.particles,
               summary.steps, summary.threads, summary.loop_seconds, summary.particle_updates_per_second());
