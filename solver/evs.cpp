@@ -13,13 +13,25 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
                                const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
                                int threads) {
   evs_node_sums(mesh, P, active, evs, d_eps, threads);
-  apply_evs(P, S, evs, d_eps, threads);
+  apply_evs(P, S, active, evs, d_eps, threads);
+}
+
+void evs_adjacency(const Mesh& mesh, EvsScratch& evs) {
+  evs.node_first.assign(mesh.node_count() + 1, 0);
+  for (const auto& triangle : mesh.triangles)
+    for (int32_t i : triangle) ++evs.node_first[static_cast<std::size_t>(i) + 1];
+  for (std::size_t i = 0; i < mesh.node_count(); ++i) evs.node_first[i + 1] += evs.node_first[i];
+  evs.node_elements.resize(static_cast<std::size_t>(evs.node_first.back()));
+  std::vector<int32_t> next(evs.node_first.begin(), evs.node_first.end() - 1);
+  for (std::size_t e = 0; e < mesh.element_count(); ++e)  // ascending: each node's list is sorted
+    for (int32_t i : mesh.triangles[e]) evs.node_elements[static_cast<std::size_t>(next[i]++)] = static_cast<int32_t>(e);
 }
 
 void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
                    const std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const long elements = static_cast<long>(mesh.element_count());
+  const long nodes = static_cast<long>(active.size());
   // Cell sums: each thread into its own arrays, then added in thread order (deterministic).
 #pragma omp parallel num_threads(threads)
   {
@@ -41,34 +53,52 @@ void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32
         volume_sum += evs.element_volume[t][e];
         evs.element_strain[t][e] = evs.element_volume[t][e] = 0;
       }
-      evs.strain[e] = strain_sum;
+      evs.strain[e] = volume_sum > 0 ? strain_sum / volume_sum : 0;  // the cell average
       evs.volume[e] = volume_sum;
     }
-  }
-  for (int32_t i : active) evs.node_strain[i] = evs.node_area[i] = 0;
-  for (long e = 0; e < elements; ++e) {
-    if (evs.volume[e] <= 0) continue;
-    const double strain = evs.strain[e] / evs.volume[e];
-    for (int32_t i : mesh.triangles[e]) {
-      evs.node_strain[i] += mesh.area[e] * strain;
-      evs.node_area[i] += mesh.area[e];
+    // Area-weighted at the nodes: each active node gathers its cells with particles, in
+    // ascending element order (the order of a scatter over the elements).
+#pragma omp for schedule(static)
+    for (long k = 0; k < nodes; ++k) {
+      const int32_t i = active[k];
+      double node_strain = 0, node_area = 0;
+      for (int32_t j = evs.node_first[i]; j < evs.node_first[i + 1]; ++j) {
+        const int32_t e = evs.node_elements[j];
+        if (evs.volume[e] <= 0) continue;
+        node_strain += mesh.area[e] * evs.strain[e];
+        node_area += mesh.area[e];
+      }
+      evs.node_strain[i] = node_strain;
+      evs.node_area[i] = node_area;
     }
   }
 }
 
-void apply_evs(const Particles& P, const Stencil& S, const EvsScratch& evs, std::vector<Vec4>& d_eps, int threads) {
+void apply_evs(const Particles& P, const Stencil& S, const std::vector<int32_t>& active, EvsScratch& evs,
+               std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
+  const long nodes = static_cast<long>(active.size());
   const int W = S.width;
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    const int32_t* nodes = S.nodes(p);
-    double smoothed = 0;
-    for (int k = 0; k < W; ++k) smoothed += evs.node_strain[nodes[k]] / evs.node_area[nodes[k]];
-    smoothed /= W;
-    Vec4& d = d_eps[p];
-    const double correction = 0.5 * (smoothed - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
-    d[0] += correction;
-    d[1] += correction;
+#pragma omp parallel num_threads(threads)
+  {
+    // A node without particle volume around it (active for a fixed body only) is read by no
+    // moving particle.
+#pragma omp for schedule(static)
+    for (long k = 0; k < nodes; ++k) {
+      const int32_t i = active[k];
+      evs.node_mean[i] = evs.node_area[i] > 0 ? evs.node_strain[i] / evs.node_area[i] : 0;
+    }
+#pragma omp for schedule(static)
+    for (long p = 0; p < moving; ++p) {
+      const int32_t* nodes_of_p = S.nodes(p);
+      double smoothed = 0;
+      for (int k = 0; k < W; ++k) smoothed += evs.node_mean[nodes_of_p[k]];
+      smoothed /= W;
+      Vec4& d = d_eps[p];
+      const double correction = 0.5 * (smoothed - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
+      d[0] += correction;
+      d[1] += correction;
+    }
   }
 }
 

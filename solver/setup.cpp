@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "solver/pore_pressure.hpp"
 #include "solver/simulation.hpp"
+#include "solver/step.hpp"
 
 namespace talus::solver {
 namespace {
@@ -144,6 +145,8 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
     scratch.evs.volume.assign(elements, 0);
     scratch.evs.node_strain.assign(nodes, 0);
     scratch.evs.node_area.assign(nodes, 0);
+    scratch.evs.node_mean.assign(nodes, 0);
+    evs_adjacency(config.mesh, scratch.evs);
   }
   set_threads(sim, threads);
   return sim;

@@ -48,8 +48,12 @@ struct Config {
 // result does not depend on timing), their totals, and the node averages.
 struct EvsScratch {
   std::vector<std::vector<double>> element_strain, element_volume;  // [thread][element]
-  std::vector<double> strain, volume;                               // [element]
+  std::vector<double> strain, volume;                               // [element]: strain is the cell average
   std::vector<double> node_strain, node_area;                       // [node]
+  std::vector<double> node_mean;                                    // [node]: node_strain / node_area
+  // The elements around each node, in ascending order: those of node i are
+  // node_elements[node_first[i] .. node_first[i + 1]) (built with the mesh, evs_adjacency).
+  std::vector<int32_t> node_first, node_elements;
 };
 
 // Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by

@@ -86,7 +86,7 @@ bool step(Simulation& sim, double dt) {
   if (c.evs && distributed) {
     evs_node_sums(c.mesh, P, s.grids.active, s.evs, s.d_eps, threads);
     exchange_evs_sums(sim);
-    apply_evs(P, s.stencil, s.evs, s.d_eps, threads);
+    apply_evs(P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
   }
   clock.lap(PhaseTimes::Evs);
   find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);

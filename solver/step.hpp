@@ -66,8 +66,10 @@ void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stenc
 // stencil put into its d_eps.
 void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
                    const std::vector<Vec4>& d_eps, int threads);
-void apply_evs(const Particles& P, const Stencil& stencil, const EvsScratch& evs, std::vector<Vec4>& d_eps,
-               int threads);
+void apply_evs(const Particles& P, const Stencil& stencil, const std::vector<int32_t>& active, EvsScratch& evs,
+               std::vector<Vec4>& d_eps, int threads);
+// The elements around each node (EvsScratch::node_first, node_elements) of `mesh`.
+void evs_adjacency(const Mesh& mesh, EvsScratch& evs);
 
 // Flags the moving particles alone in their element that fill less than half of it
 // (isolated.cpp): grains in free flight, which carry no stress.
