@@ -34,6 +34,18 @@ Arguments parse(int argc, char** argv) {
       throw Error(name + ": expected " + expected + ", got '" + text + "'");
     return value;
   };
+  // An integer from "--name=n" or "--name n" (its text into `text`); -1 when the text is none.
+  auto integer_of = [&](int& i, const std::string& name, std::string& text) {
+    text = value_of(i, name);
+    std::size_t used = 0;
+    int value = -1;
+    try {
+      value = std::stoi(text, &used);
+    } catch (...) {
+      return -1;
+    }
+    return used == text.size() ? value : -1;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
     const std::string name = word.substr(0, word.find('='));
@@ -42,15 +54,9 @@ Arguments parse(int argc, char** argv) {
     else if (name == "--set") args.overrides.push_back(value_of(i, name));
     else if (name == "--out") args.out = value_of(i, name);
     else if (name == "--threads") {
-      const std::string text = value_of(i, name);
-      std::size_t used = 0;
-      try {
-        args.threads = std::stoi(text, &used);
-      } catch (...) {
-        args.threads = -1;
-      }
-      if (args.threads < 1 || used != text.size())
-        throw Error("--threads: expected a positive integer, got '" + text + "'");
+      std::string text;
+      args.threads = integer_of(i, name, text);
+      if (args.threads < 1) throw Error("--threads: expected a positive integer, got '" + text + "'");
       // Each thread holds a grid buffer of its own: far more threads than cores only costs memory.
       const int cores = static_cast<int>(std::thread::hardware_concurrency());
       const int most = cores > 0 ? std::min(4 * cores, kMaxThreads) : kMaxThreads;
@@ -59,14 +65,9 @@ Arguments parse(int argc, char** argv) {
                     std::to_string(cores) + " hardware threads of this machine, never above " +
                     std::to_string(kMaxThreads) + ")");
     } else if (name == "--ranks") {
-      const std::string text = value_of(i, name);
-      std::size_t used = 0;
-      try {
-        args.ranks = std::stoi(text, &used);
-      } catch (...) {
-        args.ranks = -1;
-      }
-      if (args.ranks < 1 || args.ranks > kMaxRanks || used != text.size())
+      std::string text;
+      args.ranks = integer_of(i, name, text);
+      if (args.ranks < 1 || args.ranks > kMaxRanks)
         throw Error("--ranks: expected an integer from 1 to " + std::to_string(kMaxRanks) + ", got '" + text + "'");
     } else if (name == "--checkpoint-interval") {
       args.checkpoint_interval = number_of(i, name, 0, false, std::numeric_limits<double>::infinity(),
