@@ -237,6 +237,17 @@ std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* 
   return read_numbers<int32_t>(file, path, dims, H5T_NATIVE_INT32);
 }
 
+Handle select_block(hid_t file_space, const Dims& start, const Dims& count) {
+  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
+  if (std::find(count.begin(), count.end(), hsize_t{0}) != count.end()) {
+    H5Sselect_none(file_space);
+    H5Sselect_none(memory_space.id());
+  } else {
+    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
+  }
+  return memory_space;
+}
+
 std::vector<double> read_double_rows(const File& file, const std::string& path, hsize_t first, hsize_t count) {
   if (!exists(file, path)) fail(file, path, "missing dataset");
   const Dims dims = shape(file, path);
@@ -253,8 +264,7 @@ std::vector<double> read_double_rows(const File& file, const std::string& path, 
   std::vector<double> data(values);
   if (values == 0) return data;
   Handle file_space(H5Dget_space(dataset.id()));
-  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, size.data(), nullptr);
-  Handle memory_space(H5Screate_simple(static_cast<int>(size.size()), size.data(), nullptr));
+  const Handle memory_space = select_block(file_space.id(), start, size);
   if (H5Dread(dataset.id(), H5T_NATIVE_DOUBLE, memory_space.id(), file_space.id(), H5P_DEFAULT, data.data()) < 0)
     fail(file, path, "cannot read rows (truncated or of the wrong type)");
   return data;

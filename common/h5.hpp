@@ -73,6 +73,11 @@ std::vector<int32_t> read_ints(const File& file, const std::string& path, Dims* 
 std::vector<double> read_double_rows(const File& file, const std::string& path, hsize_t first, hsize_t count);
 std::vector<std::string> read_strings(const File& file, const std::string& path);
 
+// Selects the block `count` at `start` of the dataspace `file_space` and returns a memory
+// dataspace of that shape, the pair H5Dread and H5Dwrite take for the block; a count of 0 on any
+// axis selects nothing in either (a collective write in which this rank has no rows).
+Handle select_block(hid_t file_space, const Dims& start, const Dims& count);
+
 // Names of the members of a group, in creation-independent (alphabetical) order.
 std::vector<std::string> list(const File& file, const std::string& group_path);
 void create_group(const File& file, const std::string& path);
@@ -119,6 +124,8 @@ class Appendable {
   bool allocated_early() const;
 
  private:
+  // Writes `data` into the block `count` at `start` of the dataset.
+  void write_block(const Dims& start, const Dims& count, const void* data);
   Handle dataset_;
   Dims record_;
   hid_t type_ = H5T_NATIVE_DOUBLE;

@@ -38,11 +38,7 @@ void Appendable::append(const void* records, hsize_t rows) {
     start.push_back(0);
     count.push_back(d);
   }
-  Handle file_space(H5Dget_space(dataset_.id()));
-  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr);
-  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr));
-  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, records) < 0)
-    throw Error(where_ + ": cannot write record");
+  write_block(start, count, records);
 }
 
 void Appendable::write_rows(hsize_t index, hsize_t first, hsize_t count, const void* rows) {
@@ -54,10 +50,13 @@ void Appendable::write_rows(hsize_t index, hsize_t first, hsize_t count, const v
     start.push_back(0);
     size.push_back(record_[d]);
   }
+  write_block(start, size, rows);
+}
+
+void Appendable::write_block(const Dims& start, const Dims& count, const void* data) {
   Handle file_space(H5Dget_space(dataset_.id()));
-  H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, size.data(), nullptr);
-  Handle memory_space(H5Screate_simple(static_cast<int>(size.size()), size.data(), nullptr));
-  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, rows) < 0)
+  const Handle memory_space = select_block(file_space.id(), start, count);
+  if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, data) < 0)
     throw Error(where_ + ": cannot write record");
 }
 

@@ -26,14 +26,7 @@ std::size_t field_index(const std::vector<FrameField>& fields, const std::string
 h5::Handle select_rows(hid_t file_space, hsize_t frame, hsize_t first, hsize_t count, hsize_t width) {
   const h5::Dims start = width == 1 ? h5::Dims{frame, first} : h5::Dims{frame, first, 0};
   const h5::Dims rows = width == 1 ? h5::Dims{1, count} : h5::Dims{1, count, width};
-  h5::Handle memory_space(H5Screate_simple(static_cast<int>(rows.size()), rows.data(), nullptr));
-  if (count == 0) {
-    H5Sselect_none(file_space);
-    H5Sselect_none(memory_space.id());
-  } else {
-    H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, rows.data(), nullptr);
-  }
-  return memory_space;
+  return h5::select_block(file_space, start, rows);
 }
 
 // Writes rows [first, first + count) of frame `frame` of every frames/<field> of `path` from
