@@ -194,45 +194,44 @@ void ResultsWriter::write_frame_data(const Particles& P, const std::function<Eig
   for (std::size_t p = 0; p < n; ++p) where[static_cast<std::size_t>(P.id[p])] = static_cast<uint32_t>(p);
   const std::size_t block = std::min<std::size_t>(n, kFrameBlock);
   std::vector<double> rows;
-  // One frame dataset, a block of ids at a time; value(p, out) writes the row of solver index p.
-  auto write_set = [&](FrameSet& set, const auto& value) {
+  // One frame dataset, a block of ids at a time: prepare(first, count) before each block, then
+  // value(p, i, out) writes the row of the block's i-th id, at the solver's index p.
+  auto write_set = [&](FrameSet& set, const auto& prepare, const auto& value) {
     set.data.extend();
     const std::size_t width = static_cast<std::size_t>(set.width);
     rows.resize(block * width);
     for (std::size_t first = 0; first < n; first += block) {
-      const long count = static_cast<long>(std::min(block, n - first));
+      const std::size_t count = std::min(block, n - first);
+      prepare(first, count);
 #pragma omp parallel for schedule(static) num_threads(threads)
-      for (long i = 0; i < count; ++i) {
-        value(where[first + static_cast<std::size_t>(i)], rows.data() + static_cast<std::size_t>(i) * width);
+      for (long i = 0; i < static_cast<long>(count); ++i) {
+        const std::size_t row = static_cast<std::size_t>(i);
+        value(where[first + row], row, rows.data() + row * width);
       }
-      set.data.write_rows(set.data.size() - 1, first, static_cast<hsize_t>(count), rows.data());
+      set.data.write_rows(set.data.size() - 1, first, count, rows.data());
     }
   };
+  const auto nothing = [](std::size_t, std::size_t) {};
   auto set = frame_sets_.begin();
-  write_set(*set++, [&](std::size_t p, double* out) {
+  write_set(*set++, nothing, [&](std::size_t p, std::size_t, double* out) {
     const Eigen::Vector2d v = velocity(p);
     out[0] = v.x(), out[1] = v.y();
   });
   // The displacement: the position less the initial position, read back from this file a block
   // at a time (no column of either is kept).
-  {
-    FrameSet& displacement = *set++;
-    displacement.data.extend();
-    rows.resize(block * 2);
-    for (std::size_t first = 0; first < n; first += block) {
-      const std::size_t count = std::min(block, n - first);
-      const std::vector<double> initial = h5::read_double_rows(file_, "particles/initial_position", first, count);
-      for (std::size_t i = 0; i < count; ++i) {
-        const std::size_t p = where[first + i];
-        for (int k = 0; k < 2; ++k) rows[i * 2 + k] = P.x[p][k] - initial[i * 2 + k];
-      }
-      displacement.data.write_rows(displacement.data.size() - 1, first, count, rows.data());
-    }
-  }
+  std::vector<double> initial;
+  write_set(
+      *set++,
+      [&](std::size_t first, std::size_t count) {
+        initial = h5::read_double_rows(file_, "particles/initial_position", first, count);
+      },
+      [&](std::size_t p, std::size_t row, double* out) {
+        for (int k = 0; k < 2; ++k) out[k] = P.x[p][k] - initial[row * 2 + k];
+      });
   P.for_each_field([&](const FieldInfo& field, const auto& column) {
     using E = FieldElement<typename std::decay_t<decltype(column)>::value_type>;
     if (field_written(field, water_))
-      write_set(*set++, [&](std::size_t p, double* out) {
+      write_set(*set++, nothing, [&](std::size_t p, std::size_t, double* out) {
         for (int k = 0; k < E::width; ++k) out[k] = E::get(column[p], k);
       });
   });
