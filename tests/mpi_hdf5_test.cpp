@@ -26,11 +26,6 @@ namespace fs = std::filesystem;
 using testing::run_talus;
 using testing::ScratchDir;
 
-std::string version() {
-  static const std::string text = run_talus("--version").output;
-  return text;
-}
-
 bool is_group(const h5::File& file, const std::string& path) {
   H5O_info_t info;
   return H5Oget_info_by_name2(file.id(), path.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
@@ -73,34 +68,11 @@ std::map<std::string, std::string> layout(const std::string& path) {
   return objects;
 }
 
-// The largest difference between the frame datasets of two results.h5, relative to the
-// largest value of each dataset; names the worst dataset.
-double frame_difference(const std::string& a, const std::string& b, std::string& worst) {
-  const h5::File x_file = h5::File::open_read(a), y_file = h5::File::open_read(b);
-  double largest = 0;
-  for (const std::string& name : h5::list(x_file, "frames")) {
-    const auto x = h5::read_doubles(x_file, "frames/" + name);
-    const auto y = h5::read_doubles(y_file, "frames/" + name);
-    if (x.size() != y.size()) {
-      worst = name + ": sizes differ";
-      return HUGE_VAL;
-    }
-    double scale = 0, difference = 0;
-    for (std::size_t k = 0; k < x.size(); ++k) {
-      scale = std::max(scale, std::abs(x[k]));
-      difference = std::max(difference, std::abs(x[k] - y[k]));
-    }
-    const double relative = scale > 0 ? difference / scale : difference;
-    if (relative >= largest) largest = relative, worst = name;
-  }
-  return largest;
-}
-
 class MpiHdf5 : public ::testing::Test {
  protected:
   void SetUp() override {
     // "(with MPI..." or "(without MPI: one rank)".
-    if (version().find("(with MPI") == std::string::npos) GTEST_SKIP() << "talus was built without MPI";
+    if (testing::talus_version().find("(with MPI") == std::string::npos) GTEST_SKIP() << "talus was built without MPI";
   }
   // The default slope coarsened to 0.5 m elements, to t = 1 s (11 frames): its failure crosses
   // the partitions. Meshed into DIR/model.
@@ -123,7 +95,7 @@ TEST_F(MpiHdf5, TwoAndThreeRanksWriteTheFileOneRankWrites) {
   ASSERT_GT(serial.count("frames/stress"), 0u);
   const std::string xdmf = testing::read_text(dir.file("r1/results.xdmf"));
   ASSERT_FALSE(xdmf.empty());
-  const bool parallel = version().find("parallel HDF5") != std::string::npos;
+  const bool parallel = testing::talus_version().find("parallel HDF5") != std::string::npos;
   for (int ranks : {2, 3}) {
     const std::string out = dir.file("r" + std::to_string(ranks));
     const auto solved = solve(model, ranks, out);
@@ -140,14 +112,14 @@ TEST_F(MpiHdf5, TwoAndThreeRanksWriteTheFileOneRankWrites) {
     }
     EXPECT_EQ(distributed.size(), serial.size()) << ranks << " ranks";
     std::string worst;
-    EXPECT_LE(frame_difference(dir.file("r1/results.h5"), out + "/results.h5", worst), 1e-10)
+    EXPECT_LE(testing::frame_difference(dir.file("r1/results.h5"), out + "/results.h5", worst), 1e-10)
         << ranks << " ranks: " << worst;
     EXPECT_EQ(testing::read_text(out + "/results.xdmf"), xdmf) << ranks << " ranks";
   }
 }
 
 TEST_F(MpiHdf5, AWriteThatFailsOnOneRankLeavesNoResultsAndOneMessage) {
-  if (version().find("parallel HDF5") == std::string::npos) GTEST_SKIP() << "frames gathered on rank 0";
+  if (testing::talus_version().find("parallel HDF5") == std::string::npos) GTEST_SKIP() << "frames gathered on rank 0";
   const ScratchDir dir("mpi-hdf5-full");
   const std::string out = dir.file("out");
   ASSERT_EQ(run_talus(testing::scene_row(dir.path(), testing::kScene) + " --quiet --out " + out).status, 0);

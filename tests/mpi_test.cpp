@@ -21,38 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_shell;
 using testing::run_talus;
+using testing::frame_difference;
 using testing::ScratchDir;
-
-bool built_with_mpi() {
-  static const bool yes = run_talus("--version").output.find("(with MPI") != std::string::npos;
-  return yes;
-}
-
-// The largest difference between the frames of two results.h5, relative to the largest value
-// of each dataset, over every frame dataset (frames/pore_pressure too, with water).
-double frame_difference(const std::string& a, const std::string& b, std::string& worst) {
-  double largest = 0;
-  for (const std::string& dataset : h5::list(h5::File::open_read(a), "frames")) {
-    const std::string name = "frames/" + dataset;
-    const auto x = h5::read_doubles(h5::File::open_read(a), name);
-    const auto y = h5::read_doubles(h5::File::open_read(b), name);
-    if (x.size() != y.size()) {
-      worst = std::string(name) + ": " + std::to_string(x.size()) + " against " + std::to_string(y.size()) + " values";
-      return HUGE_VAL;
-    }
-    double scale = 0, difference = 0;
-    for (std::size_t k = 0; k < x.size(); ++k) {
-      scale = std::max(scale, std::abs(x[k]));
-      difference = std::max(difference, std::abs(x[k] - y[k]));
-    }
-    const double relative = scale > 0 ? difference / scale : difference;
-    if (relative >= largest) {
-      largest = relative;
-      worst = name;
-    }
-  }
-  return largest;
-}
 
 // Meshes geometries/slope.toml with `settings` into DIR/model and solves it on one rank, one
 // thread, into DIR/one (`expected_status`: 1 for a run that must fail). Returns the model's path.
@@ -71,7 +41,7 @@ std::string slope_on_one_rank(const ScratchDir& dir, const std::string& settings
 class Mpi : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!built_with_mpi()) GTEST_SKIP() << "talus was built without MPI";
+    if (testing::talus_version().find("(with MPI") == std::string::npos) GTEST_SKIP() << "talus was built without MPI";
   }
   // Meshes `scene` with `settings` into DIR/model and solves it on 1, 2 and 3 ranks (one
   // thread each); every rank count's frames must match one rank's within `tolerance`.

@@ -12,6 +12,8 @@
 #include <random>
 #include <sstream>
 
+#include "common/h5.hpp"
+
 namespace talus::testing {
 
 ScratchDir::ScratchDir(const std::string& tag) {
@@ -39,6 +41,36 @@ CommandResult run_shell(const std::string& command) {
 }
 
 CommandResult run_talus(const std::string& args) { return run_shell(std::string(TALUS_BINARY) + " " + args); }
+
+const std::string& talus_version() {
+  static const std::string text = run_talus("--version").output;
+  return text;
+}
+
+double frame_difference(const std::string& a, const std::string& b, std::string& worst) {
+  const h5::File x_file = h5::File::open_read(a), y_file = h5::File::open_read(b);
+  double largest = 0;
+  for (const std::string& dataset : h5::list(x_file, "frames")) {
+    const std::string name = "frames/" + dataset;
+    const auto x = h5::read_doubles(x_file, name);
+    const auto y = h5::read_doubles(y_file, name);
+    if (x.size() != y.size()) {
+      worst = name + ": " + std::to_string(x.size()) + " against " + std::to_string(y.size()) + " values";
+      return HUGE_VAL;
+    }
+    double scale = 0, difference = 0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      scale = std::max(scale, std::abs(x[k]));
+      difference = std::max(difference, std::abs(x[k] - y[k]));
+    }
+    const double relative = scale > 0 ? difference / scale : difference;
+    if (relative >= largest) {
+      largest = relative;
+      worst = name;
+    }
+  }
+  return largest;
+}
 
 std::string source_path(const std::string& relative) { return std::string(TALUS_SOURCE_DIR) + "/" + relative; }
 

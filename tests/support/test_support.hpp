@@ -36,6 +36,14 @@ double json_number(const std::string& json, const std::string& key);
 // Runs `build/bin/talus ARGS` through the shell, capturing its output.
 CommandResult run_talus(const std::string& args);
 CommandResult run_shell(const std::string& command);
+// What `talus --version` prints: "(with MPI..." or "(without MPI: one rank)", and whether the
+// ranks write the frames with the parallel HDF5.
+const std::string& talus_version();
+
+// The largest difference between the frames of two results.h5, relative to the largest value
+// of each dataset, over every frame dataset (frames/pore_pressure too, with water); `worst`
+// names the dataset (or says how their sizes differ, the difference being then infinite).
+double frame_difference(const std::string& a, const std::string& b, std::string& worst);
 
 // Absolute path of a file in the source tree, e.g. source_path("geometries/slope.toml").
 std::string source_path(const std::string& relative);
