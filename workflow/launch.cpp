@@ -116,7 +116,7 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
     signal(SIGTERM, SIG_DFL);
     execv(mpirun.c_str(), argv.data());
     const std::string message = "talus: error: --ranks: cannot run " + mpirun + ": " + std::strerror(errno) + "\n";
-    if (write(STDERR_FILENO, message.data(), message.size()) < 0) _exit(127);
+    [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, message.data(), message.size());
     _exit(127);
   }
   int forwarded = 0;
