@@ -37,13 +37,22 @@ void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32
   {
     std::vector<double>& strain = evs.element_strain[omp_get_thread_num()];
     std::vector<double>& volume = evs.element_volume[omp_get_thread_num()];
-#pragma omp for schedule(static)
+    // Particles sorted by element come in runs of one cell: each run's sums are added once.
+    int32_t run_element = -1;
+    double run_strain = 0, run_volume = 0;
+#pragma omp for schedule(static) nowait
     for (long p = 0; p < moving; ++p) {
       const int32_t e = P.element[p];
+      if (e != run_element) {
+        if (run_element >= 0) strain[run_element] += run_strain, volume[run_element] += run_volume;
+        run_element = e, run_strain = 0, run_volume = 0;
+      }
       const double V = P.volume[p];
-      strain[e] += V * (d_eps[p][0] + d_eps[p][1]);
-      volume[e] += V;
+      run_strain += V * (d_eps[p][0] + d_eps[p][1]);
+      run_volume += V;
     }
+    if (run_element >= 0) strain[run_element] += run_strain, volume[run_element] += run_volume;
+#pragma omp barrier
     const std::size_t team = evs.element_strain.size();
 #pragma omp for schedule(static)
     for (long e = 0; e < elements; ++e) {
@@ -88,12 +97,18 @@ void apply_evs(const Particles& P, const Stencil& S, const std::vector<int32_t>&
       const int32_t i = active[k];
       evs.node_mean[i] = evs.node_area[i] > 0 ? evs.node_strain[i] / evs.node_area[i] : 0;
     }
+    // The mean over a stencil row's nodes, once per run of particles that share the row.
+    int32_t run_row = -1;
+    double smoothed = 0;
 #pragma omp for schedule(static)
     for (long p = 0; p < moving; ++p) {
-      const int32_t* nodes_of_p = S.nodes(p);
-      double smoothed = 0;
-      for (int k = 0; k < W; ++k) smoothed += evs.node_mean[nodes_of_p[k]];
-      smoothed /= W;
+      if (S.row[p] != run_row) {
+        run_row = S.row[p];
+        const int32_t* nodes_of_p = S.nodes(p);
+        smoothed = 0;
+        for (int k = 0; k < W; ++k) smoothed += evs.node_mean[nodes_of_p[k]];
+        smoothed /= W;
+      }
       Vec4& d = d_eps[p];
       const double correction = 0.5 * (smoothed - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
       d[0] += correction;

@@ -22,9 +22,21 @@ void find_isolated_particles(const Mesh& mesh, const Particles& P, std::vector<i
   {
 #pragma omp for schedule(static)
     for (long e = 0; e < elements; ++e) element_count[e] = 0;
-#pragma omp for schedule(static)
-    for (long p = 0; p < n; ++p)
-      std::atomic_ref<int32_t>(element_count[P.element[p]]).fetch_add(1, std::memory_order_relaxed);
+    // Particles sorted by element come in runs of one cell: one atomic add per run.
+    int32_t run_element = -1, run_count = 0;
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < n; ++p) {
+      const int32_t e = P.element[p];
+      if (e != run_element) {
+        if (run_element >= 0)
+          std::atomic_ref<int32_t>(element_count[run_element]).fetch_add(run_count, std::memory_order_relaxed);
+        run_element = e, run_count = 0;
+      }
+      ++run_count;
+    }
+    if (run_element >= 0)
+      std::atomic_ref<int32_t>(element_count[run_element]).fetch_add(run_count, std::memory_order_relaxed);
+#pragma omp barrier
 #pragma omp for schedule(static)
     for (long p = 0; p < moving; ++p) {
       const int32_t e = P.element[p];

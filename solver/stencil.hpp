@@ -12,6 +12,11 @@
 // fewer nodes than its width pads a row with weight 0 and gradient 0 on one of the particle's
 // own nodes, which adds nothing anywhere. The particle's cell (the element that contains it, Particles::element) stays with
 // the particles: relocation finds it, and EVS averages over cells.
+//
+// Particles sorted by element come in runs that share a row. The phases use this: P2G and the
+// remap's scatter sum a run's contributions and add them to each node once, the kinematics
+// computes a run's velocity gradient once, EVS adds a cell's sums once per run. A family with a
+// row per particle gets runs of one, which is the particle-by-particle loop.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -26,6 +31,10 @@ namespace talus::solver {
 enum class ShapeFamily {
   LinearTriangle,  // the containing triangle's three linear shape functions (seed, A.3)
 };
+
+// The widest stencil a family may have: phases keep per-entry sums of a particle or a run of
+// particles on the stack.
+constexpr int kMaxStencilWidth = 16;
 
 struct Stencil {
   ShapeFamily family = ShapeFamily::LinearTriangle;

@@ -146,41 +146,70 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
 #pragma omp parallel num_threads(threads)
   {
     auto& mine = buffers[omp_get_thread_num()];
-#pragma omp for schedule(static)
-    for (long p = 0; p < n; ++p) {
-      const double* N = S.weights(p);
-      const int32_t* nodes = S.nodes(p);
-      const Vec2* dN = S.gradients(p);
-      NodeBuffer& b = mine[grids.field_of(P.body[p])];
-      const double m = P.m[p];
-      if (p >= moving) {  // a fixed body lends its mass (and, for contact, its normals) only
-        for (int k = 0; k < W; ++k) {
-          b.m[nodes[k]] += N[k] * m;
-          if (gradients) b.mass_gradient[nodes[k]] += m * dN[k];
-        }
-        continue;
-      }
-      const Vec2 mv = m * P.v[p];
-      const Vec4& s = P.sigma[p];
-      const double V = P.volume[p];
-      // A surface load's force on the particle, spread over its nodes like its weight (A.7).
-      const Vec2 f_load = loaded && P.load[p] >= 0 ? Vec2(load_factor[P.load[p]] * P.load_force[p]) : Vec2::Zero();
+    // Particles sorted by element come in runs that share a stencil row (the same nodes and
+    // gradients) and a field: a run's sums over its particles are scattered once, so that the
+    // buffers see one update per node and run rather than per particle. The stress enters the
+    // force only through V sigma (A.8), whose sum over the run multiplies the shared gradients.
+    int32_t run_row = -1;
+    int run_field = 0;
+    bool run_fixed = false;
+    const int32_t* run_nodes = nullptr;
+    const Vec2* run_dN = nullptr;
+    double run_mass = 0, Nm[kMaxStencilWidth];
+    Vec2 Nmv[kMaxStencilWidth], Nf[kMaxStencilWidth];
+    Vec4 V_sigma = Vec4::Zero();
+    const auto scatter_run = [&] {
+      if (run_row < 0) return;
+      NodeBuffer& b = mine[run_field];
       for (int k = 0; k < W; ++k) {
-        const Vec2& dN_k = dN[k];
-        const int32_t i = nodes[k];
-        b.m[i] += N[k] * m;                                    // (A.6), lumped
-        b.p[i] += N[k] * mv;
-        if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
-          const Vec4& C = P.C[p];
-          const Vec2 d = x_i[i] - P.x[p];
-          b.p[i] += N[k] * m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y());
+        const int32_t i = run_nodes[k];
+        b.m[i] += Nm[k];                                       // (A.6), lumped
+        if (gradients) b.mass_gradient[i] += run_mass * run_dN[k];
+        if (run_fixed) continue;  // a fixed body lends its mass (and, for contact, its normals) only
+        const Vec2& dN_k = run_dN[k];
+        b.p[i] += Nmv[k];
+        b.f[i] += Nm[k] * g                                    // (A.7)
+                  - Vec2(V_sigma[0] * dN_k.x() + V_sigma[3] * dN_k.y(),
+                         V_sigma[3] * dN_k.x() + V_sigma[1] * dN_k.y())  // (A.8)
+                  + Nf[k];
+      }
+    };
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < n; ++p) {
+      const int32_t row = S.row[p];
+      const int field = grids.field_of(P.body[p]);
+      const bool fixed = p >= moving;
+      if (row != run_row || field != run_field || fixed != run_fixed) {
+        scatter_run();
+        run_row = row, run_field = field, run_fixed = fixed;
+        run_nodes = S.nodes(p), run_dN = S.gradients(p);
+        run_mass = 0;
+        V_sigma.setZero();
+        for (int k = 0; k < W; ++k) Nm[k] = 0, Nmv[k].setZero(), Nf[k].setZero();
+      }
+      const double* N = S.weights(p);
+      const double m = P.m[p];
+      run_mass += m;
+      for (int k = 0; k < W; ++k) Nm[k] += N[k] * m;
+      if (fixed) continue;
+      const Vec2 mv = m * P.v[p];
+      V_sigma += P.volume[p] * P.sigma[p];
+      for (int k = 0; k < W; ++k) Nmv[k] += N[k] * mv;
+      if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
+        const Vec4& C = P.C[p];
+        for (int k = 0; k < W; ++k) {
+          const Vec2 d = x_i[run_nodes[k]] - P.x[p];
+          Nmv[k] += N[k] * m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y());
         }
-        b.f[i] += N[k] * m * g                                 // (A.7)
-                  - V * Vec2(s[0] * dN_k.x() + s[3] * dN_k.y(), s[3] * dN_k.x() + s[1] * dN_k.y());  // (A.8)
-        if (loaded) b.f[i] += N[k] * f_load;
-        if (gradients) b.mass_gradient[i] += m * dN_k;
+      }
+      // A surface load's force on the particle, spread over its nodes like its weight (A.7).
+      if (loaded && P.load[p] >= 0) {
+        const Vec2 f_load = load_factor[P.load[p]] * P.load_force[p];
+        for (int k = 0; k < W; ++k) Nf[k] += N[k] * f_load;
       }
     }
+    scatter_run();
+#pragma omp barrier
     // Reduce the per-thread buffers on the active nodes, in thread order, and clear them.
     const long count = static_cast<long>(grids.active.size());
     const std::size_t team = buffers.size();
@@ -264,43 +293,64 @@ void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>
 #pragma omp parallel num_threads(threads)
   {
     auto& mine = buffers[omp_get_thread_num()];
-#pragma omp for schedule(static)
+    // As in P2G: a run of particles that share a stencil row and a field reads its nodes' values
+    // once and scatters the remap's momentum once.
+    int32_t run_row = -1;
+    int run_field = 0;
+    const int32_t* nodes = nullptr;
+    const Grid* grid = nullptr;
+    Vec2 node_value[kMaxStencilWidth], Nmv[kMaxStencilWidth];
+    for (int k = 0; k < kMaxStencilWidth; ++k) node_value[k].setZero(), Nmv[k].setZero();
+    const auto scatter_run = [&] {
+      if (run_row < 0) return;
+      NodeBuffer& b = mine[run_field];
+      for (int k = 0; k < W; ++k) b.p[nodes[k]] += Nmv[k];
+    };
+#pragma omp for schedule(static) nowait
     for (long p = 0; p < moving; ++p) {
-      const double* N = S.weights(p);
-      const int32_t* nodes = S.nodes(p);
+      const int32_t row = S.row[p];
       const int field = grids.field_of(P.body[p]);
-      const Grid& grid = grids.fields[field];
+      if (row != run_row || field != run_field) {
+        scatter_run();
+        run_row = row, run_field = field;
+        nodes = S.nodes(p);
+        grid = &grids.fields[field];
+        for (int k = 0; k < W; ++k) {
+          node_value[k] = kIncrement ? grid->a[nodes[k]] : grid->v[nodes[k]];
+          Nmv[k].setZero();
+        }
+      }
+      const double* N = S.weights(p);
       if constexpr (kIncrement) {
         Vec2 a = Vec2::Zero();
-        for (int k = 0; k < W; ++k) a += N[k] * grid.a[nodes[k]];
+        for (int k = 0; k < W; ++k) a += N[k] * node_value[k];
         P.v[p] += dt * a;  // (A.10)
       } else {
         const Vec2* dN = S.gradients(p);
         Vec2 v = Vec2::Zero();
         Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
         for (int k = 0; k < W; ++k) {
-          const Vec2& vi = grid.v[nodes[k]];
+          const Vec2& vi = node_value[k];
           v += N[k] * vi;
           if constexpr (kAffine) C += vi * dN[k].transpose();
         }
         P.v[p] = v;
         if constexpr (kAffine) P.C[p] = Vec4(C(0, 0), C(0, 1), C(1, 0), C(1, 1));
       }
-      // Momentum for the remap (A.11), scattered in the same pass.
-      NodeBuffer& b = mine[field];
+      // Momentum for the remap (A.11), summed over the run.
       const double m = P.m[p];
       const Vec2 mv = m * P.v[p];
       for (int k = 0; k < W; ++k) {
-        const int32_t i = nodes[k];
         if constexpr (kAffine) {
           const Vec4& C = P.C[p];
-          const Vec2 d = x_i[i] - P.x[p];
-          b.p[i] += N[k] * (mv + m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y()));
+          const Vec2 d = x_i[nodes[k]] - P.x[p];
+          Nmv[k] += N[k] * (mv + m * Vec2(C[0] * d.x() + C[1] * d.y(), C[2] * d.x() + C[3] * d.y()));
         } else {
-          b.p[i] += N[k] * mv;
+          Nmv[k] += N[k] * mv;
         }
       }
     }
+    scatter_run();
   }
   });
 }
@@ -376,30 +426,45 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
                                 std::vector<Vec4>& d_eps, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   with_width(S, [&](auto W) {
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    const double* N = S.weights(p);
-    const int32_t* nodes = S.nodes(p);
-    const Vec2* dN = S.gradients(p);
-    const Grid& grid = grids.fields[grids.field_of(P.body[p])];
-    Vec2 v = Vec2::Zero();
+#pragma omp parallel num_threads(threads)
+  {
+    // A run of particles that share a stencil row and a field shares the nodes' velocities and,
+    // since it shares the gradients, the velocity gradient too: both are read once per run.
+    int32_t run_row = -1;
+    int run_field = 0;
+    Vec2 node_v[kMaxStencilWidth];
+    for (Vec2& v : node_v) v.setZero();
     Eigen::Matrix2d L = Eigen::Matrix2d::Zero();  // velocity gradient, L_ab = dv_a / dx_b
-    for (int k = 0; k < W; ++k) {
-      const Vec2& vi = grid.v[nodes[k]];
-      v += N[k] * vi;
-      L += vi * dN[k].transpose();
-    }
-    P.x[p] += dt * v;  // (A.12)
-    P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
+#pragma omp for schedule(static)
+    for (long p = 0; p < moving; ++p) {
+      const int32_t row = S.row[p];
+      const int field = grids.field_of(P.body[p]);
+      if (row != run_row || field != run_field) {
+        run_row = row, run_field = field;
+        const int32_t* nodes = S.nodes(p);
+        const Vec2* dN = S.gradients(p);
+        const Grid& grid = grids.fields[field];
+        L.setZero();
+        for (int k = 0; k < W; ++k) {
+          node_v[k] = grid.v[nodes[k]];
+          L += node_v[k] * dN[k].transpose();
+        }
+      }
+      const double* N = S.weights(p);
+      Vec2 v = Vec2::Zero();
+      for (int k = 0; k < W; ++k) v += N[k] * node_v[k];
+      P.x[p] += dt * v;  // (A.12)
+      P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
 
-    d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
-    // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
-    const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
-    Vec4& s = P.sigma[p];
-    const double rotation_xx = 2 * w * s[3], rotation_xy = w * (s[1] - s[0]);
-    s[0] += rotation_xx;
-    s[1] -= rotation_xx;
-    s[3] += rotation_xy;
+      d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
+      // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
+      const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
+      Vec4& s = P.sigma[p];
+      const double rotation_xx = 2 * w * s[3], rotation_xy = w * (s[1] - s[0]);
+      s[0] += rotation_xx;
+      s[1] -= rotation_xx;
+      s[3] += rotation_xy;
+    }
   }
   });
 }
@@ -418,7 +483,10 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
       const MaterialState& material = materials[material_of_body[P.body[p]]];
       const Vec4& d = d_eps[p];
       update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
-      P.volume[p] = std::min(P.volume[p] * (1 + d[0] + d[1] + d[2]), kMaxVolumeGrowth * initial_volume[P.id[p]]);
+      // The cap is read (a gather by id) only when the volume grows: it was under it before.
+      const double trace = d[0] + d[1] + d[2];
+      P.volume[p] = trace > 0 ? std::min(P.volume[p] * (1 + trace), kMaxVolumeGrowth * initial_volume[P.id[p]])
+                              : P.volume[p] * (1 + trace);
     }
     if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
   }
