@@ -21,7 +21,8 @@ struct BackgroundMesh {
   }
 };
 
-// Node ids follow gmsh's tag order; triangles follow the group's surfaces in order. Throws
+// Triangles are ordered along a Morton curve through their centroids and nodes are numbered in
+// the order the triangles first name them (memory locality for the solver). Throws
 // talus::Error when the domain holds elements other than triangles or overlapping surfaces.
 BackgroundMesh background_mesh(const GeoMesh& geo, const PhysicalGroup& domain);
 
