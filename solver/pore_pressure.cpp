@@ -102,7 +102,7 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
   // through the stack and stall the store forwarding of its 16-byte loads.
   const Vec4 normal(1, 1, 1, 0);
   long bad = -1;
-#pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : bad) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
     Vec4& sigma = stress[p];  // total; effective in between (in place: a copy measured slower)
     double u;

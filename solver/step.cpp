@@ -475,7 +475,9 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history = static_cast<std::size_t>(P.history_width);
   long bad = -1;
-#pragma omp parallel for schedule(static) reduction(max : bad) num_threads(threads)
+  // Dynamic chunks: plastic particles, which cost more, cluster in the sliding mass, so equal
+  // shares of particles are unequal shares of work.
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : bad) num_threads(threads)
   for (long p = 0; p < moving; ++p) {
     if (isolated[p]) {
       P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
