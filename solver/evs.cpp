@@ -117,4 +117,57 @@ void apply_evs(const Particles& P, const Stencil& S, const std::vector<int32_t>&
   }
 }
 
+void evs_pressure(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
+                  int threads) {
+  const long moving = static_cast<long>(P.moving_count);
+  const long elements = static_cast<long>(mesh.element_count());
+  const long nodes = static_cast<long>(active.size());
+  evs.pressure.resize(static_cast<std::size_t>(elements));
+#pragma omp parallel num_threads(threads)
+  {
+    // Cell sums of V m (m the in-plane mean stress) and V, in the EVS scratch arrays (EVS
+    // itself runs later in the step and finds them zero again).
+    std::vector<double>& pressure = evs.element_strain[omp_get_thread_num()];
+    std::vector<double>& volume = evs.element_volume[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long p = 0; p < moving; ++p) {
+      const int32_t e = P.element[p];
+      const double V = P.volume[p];
+      pressure[e] += V * 0.5 * (P.sigma[p][0] + P.sigma[p][1]);
+      volume[e] += V;
+    }
+    const std::size_t team = evs.element_strain.size();
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      double pressure_sum = 0, volume_sum = 0;
+      for (std::size_t t = 0; t < team; ++t) {
+        pressure_sum += evs.element_strain[t][e];
+        volume_sum += evs.element_volume[t][e];
+        evs.element_strain[t][e] = evs.element_volume[t][e] = 0;
+      }
+      evs.strain[e] = pressure_sum;  // Q_e = sum V m
+      evs.volume[e] = volume_sum;
+    }
+    // g_j = (sum of Q over the node's cells / 3) / (area of its cells with particles).
+#pragma omp for schedule(static)
+    for (long k = 0; k < nodes; ++k) {
+      const int32_t i = active[k];
+      double q = 0, area = 0;
+      for (int32_t j = evs.node_first[i]; j < evs.node_first[i + 1]; ++j) {
+        const int32_t e = evs.node_elements[j];
+        if (evs.volume[e] <= 0) continue;
+        q += evs.strain[e] / 3;
+        area += mesh.area[e];
+      }
+      evs.node_mean[i] = area > 0 ? q / area : 0;
+    }
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      if (evs.volume[e] <= 0) continue;
+      const auto& t = mesh.triangles[e];
+      evs.pressure[e] = mesh.area[e] / evs.volume[e] * (evs.node_mean[t[0]] + evs.node_mean[t[1]] + evs.node_mean[t[2]]);
+    }
+  }
+}
+
 }  // namespace talus::solver
