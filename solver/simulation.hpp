@@ -51,7 +51,6 @@ struct EvsScratch {
   std::vector<double> strain, volume;                               // [element]: strain is the cell average
   std::vector<double> node_strain, node_area;                       // [node]
   std::vector<double> node_mean;                                    // [node]: node_strain / node_area
-  std::vector<double> pressure;                                     // [element]: the B-bar force's in-plane mean stress
   // The elements around each node, in ascending order: those of node i are
   // node_elements[node_first[i] .. node_first[i + 1]) (built with the mesh, evs_adjacency).
   std::vector<int32_t> node_first, node_elements;

@@ -9,8 +9,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
-#include <string>
 
 namespace talus::solver {
 
@@ -54,11 +52,7 @@ bool step(Simulation& sim, double dt) {
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
   clock.lap(PhaseTimes::Mark);
   load_factors(c, sim.time, s.load_factor);
-  static const bool bbar_force = std::getenv("TALUS_EVS_FORCE") && std::string(std::getenv("TALUS_EVS_FORCE")) == "1";
-  const bool consistent = bbar_force && c.evs && !sim.domain.distributed();
-  if (consistent) evs_pressure(c.mesh, P, s.grids.active, s.evs, threads);
-  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads,
-                    consistent ? &s.evs.pressure : nullptr);
+  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads);
   const bool distributed = sim.domain.distributed();
   if (distributed) exchange_grid_sums(sim);
   clock.lap(PhaseTimes::ToGrid);
@@ -142,8 +136,7 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
 }
 
 void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
-                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads,
-                       const std::vector<double>* element_pressure) {
+                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads) {
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
   const bool gradients = grids.per_body;
@@ -165,16 +158,9 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
     double run_mass = 0, Nm[kMaxStencilWidth];
     Vec2 Nmv[kMaxStencilWidth], Nf[kMaxStencilWidth];
     Vec4 V_sigma = Vec4::Zero();
-    double run_volume = 0, run_V_mean = 0;
-    int32_t run_element = 0;
     const auto scatter_run = [&] {
       if (run_row < 0) return;
       NodeBuffer& b = mine[run_field];
-      if (element_pressure && !run_fixed) {
-        const double shift = run_volume * (*element_pressure)[run_element] - run_V_mean;
-        V_sigma[0] += shift;
-        V_sigma[1] += shift;
-      }
       for (int k = 0; k < W; ++k) {
         const int32_t i = run_nodes[k];
         b.m[i] += Nm[k];                                       // (A.6), lumped
@@ -199,7 +185,6 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
         run_nodes = S.nodes(p), run_dN = S.gradients(p);
         run_mass = 0;
         V_sigma.setZero();
-        run_volume = 0, run_V_mean = 0, run_element = P.element[p];
         for (int k = 0; k < W; ++k) Nm[k] = 0, Nmv[k].setZero(), Nf[k].setZero();
       }
       const double* N = S.weights(p);
@@ -209,10 +194,6 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
       if (fixed) continue;
       const Vec2 mv = m * P.v[p];
       V_sigma += P.volume[p] * P.sigma[p];
-      if (element_pressure) {
-        run_volume += P.volume[p];
-        run_V_mean += P.volume[p] * 0.5 * (P.sigma[p][0] + P.sigma[p][1]);
-      }
       for (int k = 0; k < W; ++k) Nmv[k] += N[k] * mv;
       if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
         const Vec4& C = P.C[p];

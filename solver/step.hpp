@@ -24,8 +24,7 @@ void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vecto
 // it needs the node positions x_i. A particle that carries a surface load adds
 // load_factor[load] x its load_force, spread like its weight (empty factors: no loads).
 void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& gravity,
-                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads,
-                       const std::vector<double>* element_pressure = nullptr);
+                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
 // satisfies the constraints. A fixed body's field (field_fixed, with contact) does not move.
@@ -71,11 +70,6 @@ void apply_evs(const Particles& P, const Stencil& stencil, const std::vector<int
                std::vector<Vec4>& d_eps, int threads);
 // The elements around each node (EvsScratch::node_first, node_elements) of `mesh`.
 void evs_adjacency(const Mesh& mesh, EvsScratch& evs);
-
-// The in-plane mean stress each cell's particles carry into the internal force so that it is the
-// transpose of EVS (a B-bar force): evs.pressure[e] (experimental, TALUS_EVS_FORCE=1).
-void evs_pressure(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
-                  int threads);
 
 // Flags the moving particles alone in their element that fill less than half of it
 // (isolated.cpp): grains in free flight, which carry no stress.
