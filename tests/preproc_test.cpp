@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -112,6 +113,35 @@ TEST(PreprocScenes, SlopeFillsTheSoilExactlyWithRollerSidesAndFixedBase) {
   EXPECT_TRUE(std::is_sorted(m.model.roller_nodes.begin(), m.model.roller_nodes.end()));
   EXPECT_TRUE(std::is_sorted(m.model.fixed_nodes.begin(), m.model.fixed_nodes.end()));
   EXPECT_TRUE(m.model.node_sets.count("top"));  // every named curve is a node set
+}
+
+TEST(PreprocScenes, TrianglesFollowACurveAndNodesAreNumberedAsTheTrianglesNameThem) {
+  // The solver's particles follow the element order and its grid phases the node order: the
+  // mesh is ordered so that neighbours in space are neighbours in memory.
+  const Meshed m = mesh_scene("slope");
+  const auto& triangles = m.model.triangles;
+  const int32_t nodes = static_cast<int32_t>(m.model.nodes.size());
+  int32_t next = 0;  // node ids appear for the first time in increasing order
+  for (const auto& t : triangles)
+    for (int32_t i : t) {
+      ASSERT_LE(i, next);
+      if (i == next) ++next;
+    }
+  EXPECT_EQ(next, nodes);
+  // A triangle's nodes are close in memory: their id spread averages 2.4 % of the node count on
+  // the slope (gmsh's own numbering: 24 %).
+  double spread = 0;
+  for (const auto& t : triangles) spread += *std::max_element(t.begin(), t.end()) - *std::min_element(t.begin(), t.end());
+  EXPECT_LT(spread / static_cast<double>(triangles.size()), 0.05 * nodes);
+  // Consecutive triangles are near each other: the mean distance between consecutive centroids
+  // is 0.38 m with 0.25 m elements (gmsh's order: 5.9 m).
+  const auto centroid = [&](std::size_t e) {
+    const auto& t = triangles[e];
+    return Eigen::Vector2d((m.model.nodes[t[0]] + m.model.nodes[t[1]] + m.model.nodes[t[2]]) / 3.0);
+  };
+  double step = 0;
+  for (std::size_t e = 1; e < triangles.size(); ++e) step += (centroid(e) - centroid(e - 1)).norm();
+  EXPECT_LT(step / static_cast<double>(triangles.size() - 1), 2 * 0.25);
 }
 
 // [mesh.parameters] reach the .geo's DefineConstant: the column is a L0 x a L0 rectangle.

@@ -2,6 +2,7 @@
 // grid transfers, free fall, rigid motion, and an elastic column under gravity.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -333,4 +334,68 @@ TEST(TimeStep, BlockSlidesOnAFrictionBaseAsCoulombSays) {
   const double free_slide = 0.5 * g * std::sin(theta) * t * t;
   EXPECT_LT(std::abs(stuck.dot(along)), 0.02 * free_slide) << stuck.transpose();
   EXPECT_LT(std::abs(stuck.dot(normal)), 5e-3) << stuck.transpose();
+}
+
+TEST(GridTransfer, RunSumsEqualTheParticleByParticleSums) {
+  // P2G and the remap's scatter add a run's sums (particles that share a stencil row) to each
+  // node once. Against the per-particle sums of (A.6)-(A.8) and (A.11), with the particles moved
+  // after their sort so that some runs are broken and some cells' particles are not contiguous,
+  // and two threads so that a thread's share can start in the middle of a run.
+  Model model = jittered_mesh(8, 8, 0.125, 29);
+  add_box_body(model, "block", elastic(1200, 1e6, 0.3), 0.15, 0.85, 0.15, 0.85);
+  std::mt19937 random(31);
+  std::normal_distribution<double> normal(0, 1);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    model.velocity[p] = Vec2(normal(random), normal(random));
+    model.stress[p] = 1e4 * Vec4(normal(random), normal(random), normal(random), normal(random));
+  }
+  set_run(model, 1.0);
+  Simulation sim = make_simulation(model, 2);
+  Particles& P = sim.particles;
+  std::uniform_real_distribution<double> shift(-0.06, 0.06);
+  for (std::size_t p = 0; p < P.size(); ++p) P.x[p] += Vec2(shift(random), shift(random));
+  ASSERT_LT(relocate_particles(sim.config.mesh, P, sim.scratch.stencil, 2), 0);
+  // Cells whose particles form more than one run (not contiguous in memory).
+  std::vector<int> runs_of_cell(sim.config.mesh.element_count(), 0);
+  for (std::size_t p = 0; p < P.size(); ++p)
+    if (p == 0 || P.element[p] != P.element[p - 1]) ++runs_of_cell[P.element[p]];
+  ASSERT_GT(std::count_if(runs_of_cell.begin(), runs_of_cell.end(), [](int runs) { return runs > 1; }), 5);
+
+  map_to_grid(sim);
+  const Stencil& S = sim.scratch.stencil;
+  const std::size_t nodes = sim.config.mesh.nodes.size();
+  const Vec2 g = gravity_at(sim.config, sim.time);
+  std::vector<double> m(nodes, 0);
+  std::vector<Vec2> momentum(nodes, Vec2::Zero()), force(nodes, Vec2::Zero());
+  for (std::size_t p = 0; p < P.size(); ++p)
+    for (int k = 0; k < S.width; ++k) {
+      const int32_t i = S.nodes(p)[k];
+      const double N = S.weights(p)[k];
+      const Vec2& dN = S.gradients(p)[k];
+      const Vec4& s = P.sigma[p];
+      m[i] += N * P.m[p];
+      momentum[i] += N * P.m[p] * P.v[p];
+      force[i] += N * P.m[p] * g - P.volume[p] * Vec2(s[0] * dN.x() + s[3] * dN.y(), s[3] * dN.x() + s[1] * dN.y());
+    }
+  const Grid& grid = sim.scratch.grids.fields[0];
+  double mass_scale = 0, momentum_scale = 0, force_scale = 0;
+  for (int32_t i : sim.scratch.grids.active)
+    mass_scale += m[i], momentum_scale += momentum[i].norm(), force_scale += force[i].norm();
+  for (int32_t i : sim.scratch.grids.active) {
+    EXPECT_NEAR(grid.m[i], m[i], 1e-14 * mass_scale);
+    EXPECT_NEAR((grid.p[i] - momentum[i]).norm(), 0.0, 1e-14 * momentum_scale);
+    EXPECT_NEAR((grid.f[i] - force[i]).norm(), 0.0, 1e-14 * force_scale);
+  }
+
+  // The velocity update with zero acceleration keeps v_p; the remap then divides the run sums
+  // of m_p N_ip v_p by the mass: the per-particle momentum above over the same mass.
+  Scratch& s = sim.scratch;
+  const Config& c = sim.config;
+  update_grid_accelerations(c.constraints, c.body_fixed, c.damping, 0.0, s.grids, c.threads);
+  update_particle_velocities(P, S, c.mesh.nodes, c.transfer, 0.0, s.grids, s.buffers, c.threads);
+  remap_grid_velocities(c.constraints, c.body_fixed, s.grids, s.buffers, c.threads);
+  for (int32_t i : s.grids.active) {
+    if (c.constraints.kind[i] != Constraint::Free) continue;
+    EXPECT_NEAR((grid.m[i] * grid.v[i] - momentum[i]).norm(), 0.0, 1e-14 * momentum_scale);
+  }
 }
