@@ -51,26 +51,24 @@ void order_along_a_curve(BackgroundMesh& mesh) {
   const Eigen::Vector2d extent = (high - low).cwiseMax(Eigen::Vector2d::Constant(1e-300));
   // The curve key in the high 32 bits and the triangle in the low ones: one sort of plain
   // integers, ties in the original order.
+  const auto cell = [](double u) { return static_cast<uint32_t>(std::clamp(u, 0.0, 1.0) * 65535.0); };
   std::vector<uint64_t> keyed(count);
   for (std::size_t e = 0; e < count; ++e) {
     const auto& t = mesh.triangles[e];
     const Eigen::Vector2d c = (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0;
     const Eigen::Vector2d unit = (c - low).cwiseQuotient(extent);
-    const auto cell = [](double u) { return static_cast<uint32_t>(std::clamp(u, 0.0, 1.0) * 65535.0); };
     const uint64_t key = spread_bits(cell(unit.x())) | (spread_bits(cell(unit.y())) << 1);
     keyed[e] = (key << 32) | static_cast<uint64_t>(e);
   }
   std::sort(keyed.begin(), keyed.end());
-  std::vector<int32_t> order(count);
-  for (std::size_t k = 0; k < count; ++k) order[k] = static_cast<int32_t>(keyed[k] & 0xffffffffu);
 
   std::vector<int32_t> new_node(mesh.nodes.size(), -1);
   std::vector<Eigen::Vector2d> nodes;
   nodes.reserve(mesh.nodes.size());
   std::vector<std::array<int32_t, 3>> triangles;
   triangles.reserve(count);
-  for (const int32_t e : order) {
-    std::array<int32_t, 3> t = mesh.triangles[e];
+  for (const uint64_t k : keyed) {
+    std::array<int32_t, 3> t = mesh.triangles[k & 0xffffffffu];
     for (int32_t& i : t) {
       if (new_node[i] < 0) {
         new_node[i] = static_cast<int32_t>(nodes.size());

@@ -122,7 +122,7 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
         u += excess[p];
       }
       sigma -= u * normal;
-      volume[p] = std::min(volume[p] * (1 + volumetric), kMaxVolumeGrowth * initial_volume[id[p]]);
+      volume[p] = grown_volume(volume[p], volumetric, initial_volume, id[p]);
     }
     pore_pressure[p] = u;
     if (!std::isfinite(sigma.sum() + x[p].sum() + v[p].sum() + u) || !(volume[p] > 0)) bad = std::max(bad, p);

@@ -485,10 +485,7 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::ve
       const MaterialState& material = materials[material_of_body[P.body[p]]];
       const Vec4& d = d_eps[p];
       update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
-      // The cap is read (a gather by id) only when the volume grows: it was under it before.
-      const double trace = d[0] + d[1] + d[2];
-      P.volume[p] = trace > 0 ? std::min(P.volume[p] * (1 + trace), kMaxVolumeGrowth * initial_volume[P.id[p]])
-                              : P.volume[p] * (1 + trace);
+      P.volume[p] = grown_volume(P.volume[p], d[0] + d[1] + d[2], initial_volume.data(), P.id[p]);
     }
     if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
   }

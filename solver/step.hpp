@@ -2,6 +2,7 @@
 // Each phase is a free function over the data it names, one loop a reader can check against
 // the cited equation; `step()` calls them in order, contact included.
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "solver/simulation.hpp"
@@ -82,6 +83,12 @@ void find_isolated_particles(const Mesh& mesh, const Particles& P, std::vector<i
 // Uncapped, a grain that left the column collapse grew to 10-100 times its volume, and the next
 // compression, acting through V_p sigma_p, threw it out of the mesh (docs/transfer.md).
 inline constexpr double kMaxVolumeGrowth = 1.2;
+
+// V_p (1 + trace), capped at kMaxVolumeGrowth V_p(0). The cap (a gather by the particle's id) is
+// read only when the volume grows: it was under it before.
+inline double grown_volume(double volume, double trace, const double* initial_volume, int32_t id) {
+  return trace > 0 ? std::min(volume * (1 + trace), kMaxVolumeGrowth * initial_volume[id]) : volume * (1 + trace);
+}
 
 // The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
 // kMaxVolumeGrowth V_p(0); an isolated particle instead drops its stress and keeps its volume.
