@@ -7,6 +7,7 @@
 //   talus_bench_accuracy --quick            a reduced grid, a few minutes
 //   talus_bench_accuracy --smallest         one (the cheapest) setting per analytical scene, seconds
 //   talus_bench_accuracy --quick --scenes spring_mass,slope --out DIR --threads 2
+//   talus_bench_accuracy --quick --set run.integration=mixed   every run with the scene override
 //
 // Writes to DIR (default out/bench): accuracy_spring_mass.csv, accuracy_box_incline.csv,
 // accuracy_slope.csv, accuracy.md, and bench_accuracy_*.png (drawn by bench/plot_benchmarks.py).
@@ -162,10 +163,11 @@ std::string report_slope(std::vector<Row> rows, const Options& options) {
 
 int usage(const char* self, int status) {
   std::fprintf(status ? stderr : stdout,
-               "usage: %s [--quick] [--smallest] [--scenes LIST] [--out DIR] [--threads N] [--no-plots]\n"
+               "usage: %s [--quick] [--smallest] [--scenes LIST] [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
                "  --quick      a reduced grid (a few minutes on 2 cores)\n"
                "  --smallest   only the cheapest setting of spring_mass and box_incline (seconds; for the test suite)\n"
                "  --scenes     comma-separated subset of spring_mass,box_incline,slope\n"
+               "  --set        a scene override for every run, e.g. run.integration=mixed\n"
                "  --out DIR    output folder (default out/bench)\n"
                "  --threads N  OpenMP threads per run (default 1: steadier timings on a shared machine)\n"
                "  --no-plots   write the CSV and Markdown only\n",
@@ -186,6 +188,7 @@ int main(int argc, char** argv) {
     else if (arg == "--smallest") options.smallest = true;
     else if (arg == "--no-plots") options.plots = false;
     else if (arg == "--out" && has_value) options.out = argv[++i];
+    else if (arg == "--set" && has_value) options.overrides.push_back(argv[++i]);
     else if (arg == "--threads" && has_value) options.threads = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--scenes" && has_value) {
       options.scenes.clear();

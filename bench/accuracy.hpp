@@ -33,6 +33,7 @@ struct Options {
   int threads = 1;
   std::string out = "out/bench";
   std::vector<std::string> scenes = {"spring_mass", "box_incline", "slope"};
+  std::vector<std::string> overrides;  // --set KEY=VALUE, for every run (before the setting's own)
 };
 
 // The settings of each scene, cheapest first in each mode.

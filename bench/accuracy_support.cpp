@@ -52,7 +52,9 @@ Row measure(const std::string& scene, const Setting& setting, const Options& opt
   Row row;
   row.setting = setting;
   const std::string file = bench::scene_path(scene);
-  std::vector<std::string> overrides = bench::particles_per_cell_overrides(file, setting.particles_per_cell);
+  std::vector<std::string> overrides = options.overrides;
+  for (std::string& o : bench::particles_per_cell_overrides(file, setting.particles_per_cell))
+    overrides.push_back(std::move(o));
   char value[64];
   std::snprintf(value, sizeof value, "mesh.size=%.17g", setting.size);
   overrides.push_back(value);

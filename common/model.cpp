@@ -277,11 +277,13 @@ void read_metadata(const h5::File& file, Model& model) {
 
   RunSettings& run = model.run;
   // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0,
-  // and had no xpic_order (2).
+  // and had no xpic_order (2); files from before mixed integration integrate over the particles.
   const bool has_transfer = h5::has_attribute(file, "settings/run", "transfer");
   for_each_run_setting(run, [&](const char* name, auto& value) {
     const std::string key = name;
-    if ((key == "transfer" || key == "xpic_order") && !h5::has_attribute(file, "settings/run", name)) return;
+    if ((key == "transfer" || key == "xpic_order" || key == "full_cell_fill") &&
+        !h5::has_attribute(file, "settings/run", name))
+      return;
     read_setting(file, "settings/run", name, value);
   });
   if (!has_transfer) run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;

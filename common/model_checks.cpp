@@ -26,6 +26,7 @@ std::string run_settings_problem(const RunSettings& run) {
       {"rest_window", run.rest_window > 0, "a time > 0"},
       {"max_steps", run.max_steps >= 0, "an integer >= 0"},
       {"xpic_order", run.xpic_order >= 1 && run.xpic_order <= 100, "an integer in [1, 100]"},
+      {"full_cell_fill", run.full_cell_fill >= 0 && run.full_cell_fill <= 1, "a number in [0, 1] (0: no mixed integration)"},
   };
   for (const auto& check : checks)
     if (!check.ok) return std::string("settings/run@") + check.name + ": out of range, expected " + check.expected;

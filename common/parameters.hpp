@@ -24,6 +24,7 @@ void for_each_run_setting(Run& run, Visit&& visit) {
   visit("transfer", run.transfer);
   visit("pic_fraction", run.pic_fraction);
   visit("xpic_order", run.xpic_order);
+  visit("full_cell_fill", run.full_cell_fill);
   visit("history_interval", run.history_interval);
   visit("rest_ratio", run.rest_ratio);
   visit("rest_window", run.rest_window);

@@ -180,6 +180,11 @@ struct RunSettings {
   // space) and that otherwise never come to rest. Ignored by the other transfers.
   double pic_fraction = 0;
   int xpic_order = 2;           // Xpic: m >= 1; m = 1 is PIC, larger m approaches FLIP less its noise
+  // The internal force's integration (docs/transfer.md, "Mixed integration"): 0 integrates
+  // over the material points only (the seed's A.8, scene key integration = "material_points");
+  // a share in (0, 1] (integration = "mixed", key full_cell_fill) integrates a cell with its own
+  // area where its particles and those of each cell across its edges fill at least that share.
+  double full_cell_fill = 0;
   int history_interval = 10;    // steps between energy-history records
   // Stop before end_time once kinetic energy has stayed below rest_ratio x its peak for
   // rest_window seconds (after the peak). rest_ratio = 0 disables it.

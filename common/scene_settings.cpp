@@ -80,6 +80,12 @@ void read_run(TableReader& top, Scene& scene) {
   if (rs.transfer != Transfer::Xpic && run.has("xpic_order"))
     run.fail("xpic_order", "applies to transfer = \"xpic\" only (the transfer is \"" + transfer + "\")");
   if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
+  const std::string integration = run.text("integration", "material_points");
+  if (integration != "material_points" && integration != "mixed")
+    run.fail("integration", "unknown integration '" + echoed(integration) + "' (expected material_points or mixed)");
+  if (integration != "mixed" && run.has("full_cell_fill"))
+    run.fail("full_cell_fill", "applies to integration = \"mixed\" only (the integration is \"" + integration + "\")");
+  if (integration == "mixed") rs.full_cell_fill = run.number("full_cell_fill", 0.5, 0, 1, false, true);
   rs.history_interval = static_cast<int>(run.integer("history_interval", rs.history_interval, 1, 1000000));
   rs.rest_ratio = run.number("rest_ratio", rs.rest_ratio, 0, 1, true, false);
   rs.rest_window = run.number("rest_window", rs.rest_window, 0, kInf, false);

@@ -110,7 +110,7 @@ const std::vector<Attribute> kAttributes = {
     {"settings/run", "end_time"}, {"settings/run", "cfl"}, {"settings/run", "output_interval"},
     {"settings/run", "gravity"}, {"settings/run", "gravity_ramp"}, {"settings/run", "damping"},
     {"settings/run", "evs"}, {"settings/run", "pic_fraction"}, {"settings/run", "history_interval"},
-    {"settings/run", "transfer"}, {"settings/run", "xpic_order"},
+    {"settings/run", "transfer"}, {"settings/run", "xpic_order"}, {"settings/run", "full_cell_fill"},
     {"settings/run", "rest_ratio"}, {"settings/run", "rest_window"}, {"settings/run", "max_steps"},
     {"settings/contact", "enabled"}, {"settings/contact", "friction"}, {"settings/post", "body"},
     {"settings/post", "sliding_threshold"}, {"settings/post", "spring_amplitude"},

@@ -225,6 +225,10 @@ void distribute(Simulation& sim) {
   if (sim.config.transfer == Transfer::Xpic && sim.config.xpic_order > 1)
     throw SharedError("mpi: run.transfer = \"xpic\" with run.xpic_order > 1 runs on one rank only (use flip, "
                       "pic_blend or apic with --ranks)");
+  // Mixed integration reads the fill of the cells across each cell's edges, which another rank
+  // may hold.
+  if (sim.config.full_cell_fill > 0)
+    throw SharedError("mpi: run.integration = \"mixed\" runs on one rank only (use material_points with --ranks)");
   d.field_width = field_widths(sim.particles);
   d.element_owner = partition_elements(sim.config.mesh, particles_per_element(sim, false), d.ranks);
   // Every rank holds every particle here: keep this rank's, in their order.

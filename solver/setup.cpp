@@ -93,6 +93,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   config.pic_fraction = config.transfer == Transfer::PicBlend ? model.run.pic_fraction : 0.0;
   config.xpic_order = config.transfer == Transfer::Xpic ? model.run.xpic_order : 1;
   config.evs = model.run.evs;
+  config.full_cell_fill = model.run.full_cell_fill;
   config.initial_volume = model.volume;
   for (const auto& load : model.loads) config.load_ramp.push_back(load.ramp);
   for (const auto& material : model.materials) config.materials.push_back(make_material(material));
@@ -148,6 +149,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
     scratch.evs.node_mean.assign(nodes, 0);
     evs_adjacency(config.mesh, scratch.evs);
   }
+  if (config.full_cell_fill > 0) scratch.cell_scale.assign(config.mesh.element_count(), 1.0);
   set_threads(sim, threads);
   return sim;
 }
@@ -192,6 +194,8 @@ void set_threads(Simulation& sim, int threads) {
     scratch.evs.element_strain.assign(threads, std::vector<double>(elements, 0.0));
     scratch.evs.element_volume.assign(threads, std::vector<double>(elements, 0.0));
   }
+  if (sim.config.full_cell_fill > 0)
+    scratch.cell_volume.assign(threads, std::vector<double>(sim.config.mesh.element_count(), 0.0));
 }
 
 void sort_particles(Simulation& sim) {

@@ -35,6 +35,9 @@ struct Config {
   double pic_fraction = 0;   // PicBlend only: share of the grid velocity in the particle velocity
   int xpic_order = 1;        // Xpic only: m
   bool evs = false;          // enhanced volumetric strain
+  // Mixed integration of the internal force (docs/transfer.md, "Mixed integration"): 0 off; else
+  // a cell is integrated as full where it and each cell across its edges are filled to this share.
+  double full_cell_fill = 0;
   std::vector<double> initial_volume;  // m^2, by particle id: the cap on its growth (step.hpp)
   WaterSettings water;       // the water table (water.enabled(): pore pressures, pore_pressure.cpp)
   // Surface loads: per load, the time over which it rises (s, as gravity_ramp). The particles
@@ -84,6 +87,10 @@ struct Scratch {
   std::vector<int32_t> element_count;  // particles per element this step
   std::vector<uint8_t> isolated;     // per particle: alone in its element (isolated.cpp)
   EvsScratch evs;
+  // Mixed integration only: per thread, the particle volume of each element; then per element
+  // the factor on its particles' V sigma in (A.8) (full_cell_scales).
+  std::vector<std::vector<double>> cell_volume;
+  std::vector<double> cell_scale;
   std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
   std::vector<double> load_factor;     // this step's ramp factor per surface load
   PhaseTimes* phase_times = nullptr;   // not owned; null: no timing

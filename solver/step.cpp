@@ -52,7 +52,9 @@ bool step(Simulation& sim, double dt) {
   mark_active_nodes(s.stencil, P.size(), s.node_stamp, s.stamp, s.grids, threads);
   clock.lap(PhaseTimes::Mark);
   load_factors(c, sim.time, s.load_factor);
-  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.grids, s.buffers, threads);
+  if (c.full_cell_fill > 0) full_cell_scales(c.mesh, P, c.full_cell_fill, s.cell_volume, s.cell_scale, threads);
+  particles_to_grid(P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.cell_scale, s.grids,
+                    s.buffers, threads);
   const bool distributed = sim.domain.distributed();
   if (distributed) exchange_grid_sums(sim);
   clock.lap(PhaseTimes::ToGrid);
@@ -135,13 +137,61 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
     if (node_stamp[i] == current) grids.active.push_back(i);
 }
 
+void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
+                      std::vector<std::vector<double>>& cell_volume, std::vector<double>& scale, int threads) {
+  const long n = static_cast<long>(P.size());
+  const long elements = static_cast<long>(mesh.element_count());
+#pragma omp parallel num_threads(threads)
+  {
+    // Each thread sums into its own array (a run of one cell at a time); the arrays are then
+    // added in thread order, so the factors do not depend on the schedule.
+    std::vector<double>& volume = cell_volume[omp_get_thread_num()];
+    int32_t run_element = -1;
+    double run_volume = 0;
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < n; ++p) {
+      const int32_t e = P.element[p];
+      if (e != run_element) {
+        if (run_element >= 0) volume[run_element] += run_volume;
+        run_element = e, run_volume = 0;
+      }
+      run_volume += P.volume[p];
+    }
+    if (run_element >= 0) volume[run_element] += run_volume;
+#pragma omp barrier
+    const std::size_t team = cell_volume.size();
+    std::vector<double>& fill = cell_volume[0];  // the sums, then each cell's fill
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      double sum = fill[e];
+      for (std::size_t t = 1; t < team; ++t) sum += cell_volume[t][e], cell_volume[t][e] = 0;
+      fill[e] = sum / mesh.area[e];
+    }
+    // Full: the cell and each cell across its edges (inside the mesh) are filled to full_fill.
+    // A cell that lost a particle to its neighbour stays full; a cell at a free surface does not.
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      bool full = fill[e] >= full_fill;
+      for (int k = 0; k < 3 && full; ++k) {
+        const int32_t across = mesh.neighbours[e][k];
+        full = across < 0 || fill[across] >= full_fill;
+      }
+      scale[e] = full ? 1.0 / fill[e] : 1.0;
+    }
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) fill[e] = 0;
+  }
+}
+
 void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
-                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads) {
+                       const std::vector<double>& load_factor, const std::vector<double>& cell_scale, Grids& grids,
+                       ThreadBuffers& buffers, int threads) {
   const long n = static_cast<long>(P.size());
   const long moving = static_cast<long>(P.moving_count);
   const bool gradients = grids.per_body;
   const bool affine = !P.C.empty();  // APIC
   const bool loaded = !P.load.empty();  // surface loads
+  const bool mixed = !cell_scale.empty();  // mixed integration
   with_width(S, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
@@ -150,7 +200,7 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
     // gradients) and a field: a run's sums over its particles are scattered once, so that the
     // buffers see one update per node and run rather than per particle. The stress enters the
     // force only through V sigma (A.8), whose sum over the run multiplies the shared gradients.
-    int32_t run_row = -1;
+    int32_t run_row = -1, run_element = -1;
     int run_field = 0;
     bool run_fixed = false;
     const int32_t* run_nodes = nullptr;
@@ -161,6 +211,7 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
     const auto scatter_run = [&] {
       if (run_row < 0) return;
       NodeBuffer& b = mine[run_field];
+      if (mixed) V_sigma *= cell_scale[run_element];
       for (int k = 0; k < W; ++k) {
         const int32_t i = run_nodes[k];
         b.m[i] += Nm[k];                                       // (A.6), lumped
@@ -182,6 +233,7 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
       if (row != run_row || field != run_field || fixed != run_fixed) {
         scatter_run();
         run_row = row, run_field = field, run_fixed = fixed;
+        if (mixed) run_element = P.element[p];  // a row lies in one element (one per element, or per particle)
         run_nodes = S.nodes(p), run_dN = S.gradients(p);
         run_mass = 0;
         V_sigma.setZero();

@@ -24,8 +24,21 @@ void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vecto
 // With APIC the momentum carries each particle's affine part, m_p C_p (x_i - x_p), for which
 // it needs the node positions x_i. A particle that carries a surface load adds
 // load_factor[load] x its load_force, spread like its weight (empty factors: no loads).
+// cell_scale (empty: none) multiplies V sigma of the particles in each element: mixed
+// integration's factors (full_cell_scales).
 void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& gravity,
-                       const std::vector<double>& load_factor, Grids& grids, ThreadBuffers& buffers, int threads);
+                       const std::vector<double>& load_factor, const std::vector<double>& cell_scale, Grids& grids,
+                       ThreadBuffers& buffers, int threads);
+
+// Mixed integration (docs/transfer.md): the internal force (A.8) integrates over a cell with its
+// particles as quadrature points, weighted by their volumes V_p. A cell inside the material is
+// integrated with its own area instead: A_e sigma_e grad N, sigma_e = sum V_p sigma_p / sum V_p,
+// the one-point rule of a linear triangle, so scale[e] = A_e / sum V_p; elsewhere scale[e] = 1.
+// Inside: the particles of the cell and of each cell across its edges (every body's particles)
+// fill at least full_fill of that cell's area (an edge on the mesh's boundary does not count).
+// cell_volume: per thread, one zeroed entry per element, left zeroed.
+void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
+                      std::vector<std::vector<double>>& cell_volume, std::vector<double>& scale, int threads);
 
 // Nodal accelerations a_i = f_i / m_i with local damping, such that the end-of-step velocity
 // satisfies the constraints. A fixed body's field (field_fixed, with contact) does not move.

@@ -169,6 +169,22 @@ TEST_F(Mpi, BadModelOnSeveralRanksGivesOneMessage) {
   EXPECT_FALSE(fs::exists(dir.file("out/results.h5")));
 }
 
+TEST_F(Mpi, MixedIntegrationIsRefusedOnSeveralRanksWithOneMessage) {
+  // Mixed integration reads the fill of the cells across each cell's edges, which another rank
+  // may hold: refused before any step, once, with nothing written.
+  const ScratchDir dir("mpi-mixed");
+  const auto meshed = run_talus("mesh " + testing::source_path("geometries/spring_mass.toml") + " --quiet --out " +
+                                dir.path().string());
+  ASSERT_EQ(meshed.status, 0) << meshed.output;
+  const auto result = run_talus("solve " + dir.file("model.h5") + " --threads 1 --ranks 2 --quiet --out " +
+                                dir.file("out"));
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find("run.integration = \"mixed\" runs on one rank only"), std::string::npos)
+      << result.output;
+  EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  EXPECT_FALSE(fs::exists(dir.file("out/results.h5")));
+}
+
 TEST(MpiOptions, RanksIsRefusedWhereNothingSolves) {
   const auto result = run_talus("post nowhere.h5 --ranks 2");
   EXPECT_EQ(result.status, 1);

@@ -359,6 +359,12 @@ TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
        {"block.toml", "run.xpic_order", "xpic"}},
       {"XPIC of order 0", [](BlockScene&) {}, "--set run.transfer=xpic --set run.xpic_order=0",
        {"block.toml", "run.xpic_order", "[1, 100]"}},
+      {"unknown integration", [](BlockScene&) {}, "--set run.integration=gauss",
+       {"block.toml", "run.integration", "gauss", "mixed"}},
+      {"full_cell_fill without mixed integration", [](BlockScene&) {}, "--set run.full_cell_fill=0.5",
+       {"block.toml", "run.full_cell_fill", "mixed"}},
+      {"a full-cell fill of 0", [](BlockScene&) {}, "--set run.integration=mixed --set run.full_cell_fill=0",
+       {"block.toml", "run.full_cell_fill"}},
       {"a .geo parameter the .geo does not declare", [](BlockScene&) {}, "--set mesh.parameters.width=2",
        {"block.geo", "mesh.parameters.width", "DefineConstant"}},
   };

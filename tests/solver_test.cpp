@@ -42,7 +42,7 @@ void map_to_grid(Simulation& sim) {
   Scratch& s = sim.scratch;
   const int threads = sim.config.threads;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), {}, s.grids, s.buffers,
+  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), {}, {}, s.grids, s.buffers,
                     threads);
 }
 
@@ -397,5 +397,56 @@ TEST(GridTransfer, RunSumsEqualTheParticleByParticleSums) {
   for (int32_t i : s.grids.active) {
     if (c.constraints.kind[i] != Constraint::Free) continue;
     EXPECT_NEAR((grid.m[i] * grid.v[i] - momentum[i]).norm(), 0.0, 1e-14 * momentum_scale);
+  }
+}
+
+TEST(MixedIntegration, CellsInsideTheMaterialTakeTheirAreaAndCellsAtItsSurfaceTheirParticles) {
+  // A block under a uniform stress, its particles' volumes scaled by J as if it had been
+  // compressed or dilated without a particle leaving its cell. The internal force on the nodes of
+  // an edge adds up to sigma_xx times the edge's height (a vertical edge) or sigma_yy times its
+  // width (a horizontal one), each cell adding its quadrature weight over h. Integrating over the
+  // particles gives J times that. Mixed integration gives it exactly where the cells are inside
+  // the material (fill J >= 0.9 in the cell and across its edges), and keeps the particles' J at
+  // a free surface: on the block's top edge the row of triangles that has its top edge there
+  // borders empty cells (J), the other half of the row does not (1), so the sum is (1 + J) / 2 of
+  // the exact one. Where J < 0.9 no cell counts as full.
+  const double h = 0.125, W = 1.0, H = 0.5, sxx = 3e4, syy = -2e4;
+  Model model = rectangle_mesh(0, 0, 8, 6, h);  // 1 m x 0.75 m: the block leaves the top row empty
+  add_box_body(model, "block", elastic(1000, 1e6, 0.3), 0, W, 0, H);
+  for (auto& s : model.stress) s = Vec4(sxx, syy, 0.3 * (sxx + syy), 0);
+  set_run(model, 1.0);
+  model.run.full_cell_fill = 0.9;
+  for (const double J : {0.95, 1.1, 0.85}) {
+    Simulation sim = make_simulation(model, 2);
+    Scratch& s = sim.scratch;
+    const Config& c = sim.config;
+    for (double& V : sim.particles.volume) V *= J;
+    // x: the sum of f_x over the right side's nodes at y < H - h (below the block's top row of
+    // cells, which borders the empty row); y: the sum of f_y over the top edge's nodes.
+    auto edge_forces = [&](bool mixed) {
+      if (mixed) full_cell_scales(c.mesh, sim.particles, c.full_cell_fill, s.cell_volume, s.cell_scale, c.threads);
+      mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, c.threads);
+      particles_to_grid(sim.particles, s.stencil, c.mesh.nodes, Vec2::Zero(), {},
+                        mixed ? s.cell_scale : std::vector<double>{}, s.grids, s.buffers, c.threads);
+      Vec2 sums = Vec2::Zero();
+      for (int32_t i : s.grids.active) {
+        const Vec2& x = c.mesh.nodes[i];
+        const Vec2& f = s.grids.fields[0].f[i];
+        if (std::abs(x.x() - W) < 1e-9 && x.y() < H - h - 1e-9) sums.x() += f.x();
+        if (std::abs(x.y() - H) < 1e-9) sums.y() += f.y();
+      }
+      return sums;
+    };
+    // The right side's nodes at y = 0, h and 2h: the last column's two bottom rows of cells
+    // (h each) and, of the third row, the triangle in which the node at 2h has a gradient
+    // (h / 2): 2.5 h, from cells that all count as full.
+    const Vec2 points = edge_forces(false), mixed = edge_forces(true);
+    const Vec2 exact_points(-sxx * J * 2.5 * h, -syy * W * J);
+    EXPECT_NEAR(points.x(), exact_points.x(), 1e-12 * std::abs(exact_points.x())) << "J = " << J;
+    EXPECT_NEAR(points.y(), exact_points.y(), 1e-12 * std::abs(exact_points.y())) << "J = " << J;
+    const bool full = J >= 0.9;
+    EXPECT_NEAR(mixed.y(), -syy * W * (full ? (1 + J) / 2 : J), 1e-12 * std::abs(syy * W)) << "J = " << J;
+    if (full) EXPECT_NEAR(mixed.x(), -sxx * 2.5 * h, 1e-12 * std::abs(sxx)) << "J = " << J;
+    else EXPECT_NEAR(mixed.x(), points.x(), 1e-12 * std::abs(sxx)) << "J = " << J;
   }
 }

@@ -43,7 +43,7 @@ void update_velocities(Simulation& sim, double dt) {
   const Config& c = sim.config;
   Scratch& s = sim.scratch;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, c.threads);
-  particles_to_grid(sim.particles, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), {}, s.grids, s.buffers, c.threads);
+  particles_to_grid(sim.particles, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), {}, {}, s.grids, s.buffers, c.threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, c.threads);
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
     lagrangian_grid_velocities(dt, s.grids, c.threads);
@@ -231,4 +231,11 @@ TEST(Transfer, IsStoredInTheModelAndFingerprinted) {
   other = read;
   other.run.transfer = Transfer::Apic;
   EXPECT_NE(run_settings(other), run_settings(read));
+  // Mixed integration too: stored, read back, and part of the fingerprint.
+  other = read;
+  other.run.full_cell_fill = 0.7;
+  EXPECT_NE(run_settings(other), run_settings(read));
+  write_model(dir.file("mixed.h5"), other);
+  EXPECT_EQ(read_model(dir.file("mixed.h5")).run.full_cell_fill, 0.7);
+  EXPECT_EQ(read.run.full_cell_fill, 0.0);
 }
