@@ -45,32 +45,33 @@ MassTrack mass_track(const std::string& results) {
   return track;
 }
 
-}  // namespace
+// The worst |settlement - A (1 - cos(omega t))| over the frames of a run of the scene, and the
+// deepest settlement; metrics.json's max_error_over_amplitude checked against the first.
+struct SpringRun {
+  double worst = 0, deepest = 0;
+};
 
-TEST(SpringMass, MassFollowsTheAnalyticalSolutionWithinTwoPercentOfTheAmplitude) {
+SpringRun run_spring_mass(const std::string& options) {
   ScratchDir dir("spring-mass");
-  const auto run = run_talus("run " + source_path("geometries/spring_mass.toml") + " --out " + dir.path().string() + " -q");
-  ASSERT_EQ(run.status, 0) << run.output;
+  SpringRun result;
+  const auto run = run_talus("run " + source_path("geometries/spring_mass.toml") + " --out " + dir.path().string() +
+                             " -q " + options);
+  EXPECT_EQ(run.status, 0) << run.output;
+  if (run.status != 0) return result;
 
   const MassTrack track = mass_track(dir.file("results.h5"));
   const std::vector<double>& time = track.time;
   const std::size_t frames = time.size();
-  auto mean_height = [&](std::size_t frame) { return track.height[frame]; };
   const double amplitude = 1e-3, omega = 100, period = 2 * M_PI / omega;
-  ASSERT_GE(time.back(), 2 * period);
-  ASSERT_GE(frames, 40u);
-  double worst = 0;
-  const double start = mean_height(0);
+  EXPECT_GE(time.back(), 2 * period);
+  EXPECT_GE(frames, 40u);
+  const double start = track.height[0];
   for (std::size_t f = 0; f < frames; ++f) {
-    const double settlement = start - mean_height(f);
+    const double settlement = start - track.height[f];
     const double exact = amplitude * (1 - std::cos(omega * time[f]));
-    worst = std::max(worst, std::abs(settlement - exact));
+    result.worst = std::max(result.worst, std::abs(settlement - exact));
+    result.deepest = std::max(result.deepest, settlement);
   }
-  EXPECT_LT(worst, 0.02 * amplitude);
-  // The deflection really oscillates: the mass reaches twice the static settlement.
-  double deepest = 0;
-  for (std::size_t f = 0; f < frames; ++f) deepest = std::max(deepest, start - mean_height(f));
-  EXPECT_NEAR(deepest, 2 * amplitude, 0.05 * amplitude);
 
   // The postprocessor's own comparison agrees with this one.
   std::ifstream metrics(dir.file("metrics.json"));
@@ -78,12 +79,34 @@ TEST(SpringMass, MassFollowsTheAnalyticalSolutionWithinTwoPercentOfTheAmplitude)
   text << metrics.rdbuf();
   const std::string json = text.str();
   const auto key = json.find("\"max_error_over_amplitude\":");
-  ASSERT_NE(key, std::string::npos) << json;
-  const double reported = std::stod(json.substr(key + 27));
-  EXPECT_NEAR(reported, worst / amplitude, 1e-6);
+  EXPECT_NE(key, std::string::npos) << json;
+  if (key != std::string::npos) EXPECT_NEAR(std::stod(json.substr(key + 27)), result.worst / amplitude, 1e-6);
+  return result;
 }
 
-// What the 1.57 % above is made of. At a hundredth of the load (g = 0.1 m/s^2, amplitude 10 um)
+}  // namespace
+
+// The scene as it is (mixed integration): within half a percent of the amplitude.
+TEST(SpringMass, MassFollowsTheAnalyticalSolutionWithinHalfAPercentOfTheAmplitude) {
+  const double amplitude = 1e-3;
+  const SpringRun run = run_spring_mass("");
+  EXPECT_LT(run.worst, 0.005 * amplitude);
+  // The deflection really oscillates: the mass reaches twice the static settlement.
+  EXPECT_NEAR(run.deepest, 2 * amplitude, 0.05 * amplitude);
+}
+
+// Integrated over the particles alone (the seed's A.8), the spring's top cells count only the
+// part of them its particles still fill as the mass settles by u, and no particle of the mass
+// enters them: the spring is softer by about u / L, which after two periods puts the mass 1.57 %
+// of the amplitude off (docs/benchmarks.md, "The spring-mass floor"). Mixed integration removes
+// this; without it the error is above 1.2 %.
+TEST(SpringMass, IntegratedOverTheParticlesAloneTheSpringsTopCellsLoseStiffness) {
+  const SpringRun run = run_spring_mass("--set run.integration=material_points");
+  EXPECT_GT(run.worst, 0.012e-3);
+  EXPECT_LT(run.worst, 0.02e-3);
+}
+
+// What the 1.57 % of the particles alone is made of. At a hundredth of the load (g = 0.1 m/s^2, amplitude 10 um)
 // the part of the error that grows with the amplitude (the spring's top element that its
 // material moves out of, docs/benchmarks.md) is gone, and what is left is the scene's physics,
 // which the ideal oscillator y = (m g / k)(1 - cos(sqrt(k / m) t)) leaves out: the spring's own
