@@ -165,7 +165,7 @@ double triad_bandwidth(int threads) {
 }
 
 // Bytes of per-particle arrays the step reads and writes: the particle fields, the stencil's
-// weights and row index, the strain increment and the isolated flag, per particle, from a
+// weights and row index and the strain increment, per particle, from a
 // small block (they do not depend on the size).
 double state_bytes_per_particle() {
   const Model model = elastic_block(4000);
@@ -176,7 +176,7 @@ double state_bytes_per_particle() {
   });
   const auto& s = sim.scratch;
   bytes += s.stencil.N.size() * sizeof(double) + s.stencil.row.size() * sizeof(int32_t);
-  bytes += s.d_eps.size() * sizeof(s.d_eps[0]) + s.isolated.size();
+  bytes += s.d_eps.size() * sizeof(s.d_eps[0]);
   return bytes / static_cast<double>(sim.particles.size());
 }
 

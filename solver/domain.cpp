@@ -89,7 +89,6 @@ void particles_changed(Simulation& sim, bool all = true) {
   s.stencil.row.resize(P.size());
   compute_stencil(sim.config.mesh, P, all ? 0 : P.moving_count, P.size(), s.stencil, sim.config.threads);
   s.d_eps.resize(P.size(), Vec4::Zero());
-  s.isolated.resize(P.size(), 0);
   s.grids.fixed_runs.clear();
 }
 

@@ -39,21 +39,6 @@ Mesh build_mesh(const Model& model) {
   return mesh;
 }
 
-int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x) {
-  // Barycentric weights slightly below zero still count as inside, so a particle on an edge
-  // does not bounce between its two elements.
-  constexpr double kTolerance = -1e-12;
-  int32_t e = start;
-  for (std::size_t hops = 0; hops <= mesh.element_count(); ++hops) {
-    const Vec3 w = mesh.weights(e, x);
-    int k;
-    if (w.minCoeff(&k) >= kTolerance) return e;
-    e = mesh.neighbours[e][k];
-    if (e < 0) return -1;
-  }
-  return -1;
-}
-
 Constraints build_constraints(const Model& model) {
   Constraints c;
   c.kind.assign(model.nodes.size(), Constraint::Free);

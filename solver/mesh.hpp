@@ -43,8 +43,26 @@ struct Mesh {
 Mesh build_mesh(const Model& model);
 
 // Walks from element `start` towards x across the edge of the most negative barycentric
-// weight. Returns the containing element, or -1 when the walk leaves the domain.
-int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x);
+// weight. Returns the containing element, or -1 when the walk leaves the domain; `weights`
+// (when given) receives x's barycentric weights in the element returned. Inline: the
+// relocation calls it for every particle every step.
+inline int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x, Vec3* weights = nullptr) {
+  // Barycentric weights slightly below zero still count as inside, so a particle on an edge
+  // does not bounce between its two elements.
+  constexpr double kTolerance = -1e-12;
+  int32_t e = start;
+  for (std::size_t hops = 0; hops <= mesh.element_count(); ++hops) {
+    const Vec3 w = mesh.weights(e, x);
+    int k;
+    if (w.minCoeff(&k) >= kTolerance) {
+      if (weights) *weights = w;
+      return e;
+    }
+    e = mesh.neighbours[e][k];
+    if (e < 0) return -1;
+  }
+  return -1;
+}
 
 // Per-node boundary constraints on the velocity.
 enum class Constraint : uint8_t { Free = 0, Fixed = 1, Roller = 2, Friction = 3 };

@@ -72,7 +72,7 @@ struct TableNow {
 
 }  // namespace
 
-long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
                                 const Config& config, double t, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history_width = static_cast<std::size_t>(P.history_width);
@@ -84,7 +84,6 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
   // the vectors' data pointers for every particle (14 of the loop's 152 instructions a
   // particle, counted with cachegrind on the 50k-particle slope; docs/water.md, "Cost").
   const Vec4* const d = d_eps.data();
-  const uint8_t* const alone = isolated.data();
   const MaterialState* const materials = config.materials.data();
   const int32_t* const material_of_body = config.material_of_body.data();
   const double* const initial_volume = config.initial_volume.data();
@@ -102,30 +101,34 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
   // through the stack and stall the store forwarding of its 16-byte loads.
   const Vec4 normal(1, 1, 1, 0);
   long bad = -1;
-#pragma omp parallel for schedule(dynamic, 1024) reduction(max : bad) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    Vec4& sigma = stress[p];  // total; effective in between (in place: a copy measured slower)
-    double u;
-    if (alone[p]) {
-      sigma.setZero();  // a grain in free flight (isolated.cpp)
-      u = table.pore_pressure(x[p]);
-    } else {
-      const MaterialState& material = materials[material_of_body[body[p]]];
-      const Vec4& dp = d[p];
-      sigma += pore_pressure[p] * normal;
-      update_stress(material, sigma, dp, eps_p[p], history ? history + p * history_width : nullptr);
-      // The new pore pressure after the material's call, so that less lives across it.
-      const double volumetric = dp[0] + dp[1] + dp[2];
-      u = table.pore_pressure(x[p]);
-      if (undrained) {
-        excess[p] -= material.pore_stiffness * volumetric;
-        u += excess[p];
+#pragma omp parallel num_threads(threads) reduction(max : bad)
+  {
+    StrainIncrement increment(cells, P);
+#pragma omp for schedule(dynamic, 1024)
+    for (long p = 0; p < moving; ++p) {
+      Vec4& sigma = stress[p];  // total; effective in between (in place: a copy measured slower)
+      double u;
+      if (increment.isolated(p)) {
+        sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
+        u = table.pore_pressure(x[p]);
+      } else {
+        const MaterialState& material = materials[material_of_body[body[p]]];
+        const Vec4 dp = increment(p, d[p]);
+        sigma += pore_pressure[p] * normal;
+        update_stress(material, sigma, dp, eps_p[p], history ? history + p * history_width : nullptr);
+        // The new pore pressure after the material's call, so that less lives across it.
+        const double volumetric = dp[0] + dp[1] + dp[2];
+        u = table.pore_pressure(x[p]);
+        if (undrained) {
+          excess[p] -= material.pore_stiffness * volumetric;
+          u += excess[p];
+        }
+        sigma -= u * normal;
+        volume[p] = grown_volume(volume[p], volumetric, initial_volume, id[p]);
       }
-      sigma -= u * normal;
-      volume[p] = grown_volume(volume[p], volumetric, initial_volume, id[p]);
+      pore_pressure[p] = u;
+      if (!std::isfinite(sigma.sum() + x[p].sum() + v[p].sum() + u) || !(volume[p] > 0)) bad = std::max(bad, p);
     }
-    pore_pressure[p] = u;
-    if (!std::isfinite(sigma.sum() + x[p].sum() + v[p].sum() + u) || !(volume[p] > 0)) bad = std::max(bad, p);
   }
   return bad;
 }

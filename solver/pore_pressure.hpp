@@ -9,6 +9,8 @@
 
 namespace talus::solver {
 
+struct CellSums;  // step.hpp
+
 // The gravity ramp's fraction at time t: (1 - cos(pi t / T)) / 2 until T, then 1.
 double gravity_fraction(const Config& config, double t);
 
@@ -20,7 +22,7 @@ inline double hydrostatic_pore_pressure(const Config& config, const Vec2& x, dou
 // update_stresses (step.hpp) for a scene with water: the material update on the effective
 // stress, then the new pore pressure at time t (the end of the step) and the total stress.
 // Returns the largest particle index with a non-finite state or a non-positive volume, or -1.
-long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
                                 const Config& config, double t, int threads);
 
 // Sizes and fills the pore-pressure fields of particles at time t (make_simulation).

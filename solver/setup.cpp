@@ -139,7 +139,6 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   scratch.node_stamp.assign(nodes, 0);
   scratch.d_eps.assign(sim.particles.size(), Vec4::Zero());
   scratch.element_count.assign(config.mesh.element_count(), 0);
-  scratch.isolated.assign(sim.particles.size(), 0);
   if (config.evs) {
     const std::size_t elements = config.mesh.element_count();
     scratch.evs.strain.assign(elements, 0);

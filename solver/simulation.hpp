@@ -63,14 +63,14 @@ struct EvsScratch {
 // the throughput benchmark); when it is null step() reads no clock.
 struct PhaseTimes {
   enum Phase {
-    Mark, ToGrid, GridAcceleration, Contact, GridVelocity, ParticleVelocity, Remap, Kinematics, Evs, Isolated,
-    Stresses, Relocate, Count
+    Mark, ToGrid, GridAcceleration, Contact, GridVelocity, ParticleVelocity, Remap, Kinematics, CellSums, Stresses,
+    Relocate, Count
   };
   static constexpr const char* kNames[Count] = {
       "mark_active_nodes",          "particles_to_grid", "update_grid_accelerations", "contact",
       "lagrangian/xpic velocities", "update_particle_velocities", "remap_grid_velocities",
-      "update_particle_kinematics", "enhance_volumetric_strain", "find_isolated_particles",
-      "update_stresses",            "relocate_particles"};
+      "update_particle_kinematics", "sum_cells",                  "update_stresses",
+      "relocate_particles"};
   double seconds[Count] = {};
   long steps = 0;
 };
@@ -84,8 +84,7 @@ struct Scratch {
   std::vector<int32_t> node_stamp;   // == stamp: node active this step
   int32_t stamp = 0;
   std::vector<Vec4> d_eps;           // this step's strain increment per particle
-  std::vector<int32_t> element_count;  // particles per element this step
-  std::vector<uint8_t> isolated;     // per particle: alone in its element (isolated.cpp)
+  std::vector<int32_t> element_count;  // particles per element this step (sum_cells)
   EvsScratch evs;
   // Mixed integration only: per thread, the particle volume of each element; then per element
   // the factor on its particles' V sigma in (A.8) (full_cell_scales).

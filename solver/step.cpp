@@ -84,18 +84,14 @@ bool step(Simulation& sim, double dt) {
   clock.lap(PhaseTimes::Remap);
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   clock.lap(PhaseTimes::Kinematics);
-  if (c.evs && !distributed) enhance_volumetric_strain(c.mesh, P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
-  if (c.evs && distributed) {
-    evs_node_sums(c.mesh, P, s.grids.active, s.evs, s.d_eps, threads);
-    exchange_evs_sums(sim);
-    apply_evs(P, s.stencil, s.grids.active, s.evs, s.d_eps, threads);
-  }
-  clock.lap(PhaseTimes::Evs);
-  find_isolated_particles(c.mesh, P, s.element_count, s.isolated, threads);
-  clock.lap(PhaseTimes::Isolated);
+  sum_cells(c.mesh, P, c.evs, s.grids.active, s.element_count, s.evs, s.d_eps, threads);
+  if (c.evs && distributed) exchange_evs_sums(sim);
+  if (c.evs) evs_node_means(s.grids.active, s.evs, threads);
+  clock.lap(PhaseTimes::CellSums);
+  const CellSums cells{c.mesh, s.stencil, s.element_count, c.evs ? s.evs.node_mean.data() : nullptr};
   s.bad_particle = c.water.enabled()
-                       ? update_stresses_with_water(P, s.d_eps, s.isolated, c, sim.time + dt, threads)
-                       : update_stresses(P, s.d_eps, s.isolated, c.materials, c.material_of_body, c.initial_volume,
+                       ? update_stresses_with_water(P, s.d_eps, cells, c, sim.time + dt, threads)
+                       : update_stresses(P, s.d_eps, cells, c.materials, c.material_of_body, c.initial_volume,
                                          threads);
   clock.lap(PhaseTimes::Stresses);
   if (!distributed) {
@@ -521,33 +517,50 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
   });
 }
 
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
                      const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
                      const std::vector<double>& initial_volume, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   const std::size_t history = static_cast<std::size_t>(P.history_width);
   long bad = -1;
-  // Dynamic chunks: plastic particles, which cost more, cluster in the sliding mass, so equal
-  // shares of particles are unequal shares of work.
-#pragma omp parallel for schedule(dynamic, 1024) reduction(max : bad) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    if (isolated[p]) {
-      P.sigma[p].setZero();  // a grain in free flight (isolated.cpp)
-    } else {
-      const MaterialState& material = materials[material_of_body[P.body[p]]];
-      const Vec4& d = d_eps[p];
-      update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
-      P.volume[p] = grown_volume(P.volume[p], d[0] + d[1] + d[2], initial_volume.data(), P.id[p]);
+#pragma omp parallel num_threads(threads) reduction(max : bad)
+  {
+    StrainIncrement increment(cells, P);
+    // Dynamic chunks: plastic particles, which cost more, cluster in the sliding mass, so equal
+    // shares of particles are unequal shares of work.
+#pragma omp for schedule(dynamic, 1024)
+    for (long p = 0; p < moving; ++p) {
+      if (increment.isolated(p)) {
+        P.sigma[p].setZero();  // a grain in free flight (step.hpp, is_isolated)
+      } else {
+        const MaterialState& material = materials[material_of_body[P.body[p]]];
+        const Vec4 d = increment(p, d_eps[p]);
+        update_stress(material, P.sigma[p], d, P.eps_p[p], history > 0 ? &P.history[p * history] : nullptr);
+        P.volume[p] = grown_volume(P.volume[p], d[0] + d[1] + d[2], initial_volume.data(), P.id[p]);
+      }
+      if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
     }
-    if (!std::isfinite(P.sigma[p].sum() + P.x[p].sum() + P.v[p].sum()) || !(P.volume[p] > 0)) bad = std::max(bad, p);
   }
   return bad;
 }
 
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads) {
-  const long lost = locate_particles(mesh, P, threads);
-  // A pass of its own: fused into the walk above it measured 7% slower on the whole step.
-  if (lost < 0) compute_stencil(mesh, P, 0, P.moving_count, stencil, threads);
+  // One pass: the walk's last weights are the particle's stencil weights in its element.
+  // (It was two, the walk and then the stencil; one pass runs 300 million fewer instructions
+  // over 150 steps of the 48,812-particle slope, docs/benchmarks.md.)
+  const long moving = static_cast<long>(P.moving_count);
+  long lost = -1;
+#pragma omp parallel for schedule(static) reduction(max : lost) num_threads(threads)
+  for (long p = 0; p < moving; ++p) {
+    Vec3 w;
+    const int32_t e = locate(mesh, P.element[p], P.x[p], &w);
+    if (e < 0) {
+      lost = std::max(lost, p);
+      continue;
+    }
+    P.element[p] = e;
+    compute_stencil_row(w, e, static_cast<std::size_t>(p), stencil);
+  }
   return lost;
 }
 

@@ -70,25 +70,81 @@ void remap_grid_velocities(const Constraints& constraints, const std::vector<uin
 void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grids& grids, double pic_fraction,
                                 double dt, std::vector<Vec4>& d_eps, int threads);
 
-// Detournay and Dzik (2006): replaces the volumetric part of each d_eps by its cell average
-// smoothed over the nodes (evs.cpp).
-void enhance_volumetric_strain(const Mesh& mesh, const Particles& P, const Stencil& stencil,
-                               const std::vector<int32_t>& active, EvsScratch& evs, std::vector<Vec4>& d_eps,
-                               int threads);
-// Its two halves, between which a distributed step exchanges the node sums: the cell averages
-// summed at the nodes (evs.node_strain, evs.node_area), and their mean over each particle's
-// stencil put into its d_eps.
-void evs_node_sums(const Mesh& mesh, const Particles& P, const std::vector<int32_t>& active, EvsScratch& evs,
-                   const std::vector<Vec4>& d_eps, int threads);
-void apply_evs(const Particles& P, const Stencil& stencil, const std::vector<int32_t>& active, EvsScratch& evs,
-               std::vector<Vec4>& d_eps, int threads);
+// ---- The cell pass (evs.cpp) and the stress update it feeds ----------------------------------
+// One sweep over the particles, by runs of one element, gives each element's particle count
+// (isolated particles, below) and, with EVS, the sums of enhanced volumetric strain (Detournay
+// and Dzik 2006; seed section 4): each cell's volume-weighted volumetric increment, then at each
+// active node the area-weighted mean of the cells around it that hold particles
+// (evs.node_strain, evs.node_area). evs_node_means divides them (evs.node_mean); a distributed
+// step exchanges the node sums in between. The stress update then replaces the volumetric part
+// of each particle's d_eps by the mean of node_mean over its stencil's nodes (for linear
+// triangles, its cell's three nodes).
+void sum_cells(const Mesh& mesh, const Particles& P, bool evs_on, const std::vector<int32_t>& active,
+               std::vector<int32_t>& element_count, EvsScratch& evs, const std::vector<Vec4>& d_eps, int threads);
+void evs_node_means(const std::vector<int32_t>& active, EvsScratch& evs, int threads);
 // The elements around each node (EvsScratch::node_first, node_elements) of `mesh`.
 void evs_adjacency(const Mesh& mesh, EvsScratch& evs);
 
-// Flags the moving particles alone in their element that fill less than half of it
-// (isolated.cpp): grains in free flight, which carry no stress.
-void find_isolated_particles(const Mesh& mesh, const Particles& P, std::vector<int32_t>& element_count,
-                             std::vector<uint8_t>& isolated, int threads);
+// Isolated particles (docs/transfer.md, "Isolated particles"). A particle alone in its element
+// is a grain in free flight, not a piece of a continuum: the nodes it shares with a wall or with
+// the body it left give it strain increments that no neighbour balances, and with a frictional
+// material (tension cut off at the apex, compression kept) those increments ratchet up a
+// compressive stress many times the overburden that the grain later releases in one step
+// (measured on the column collapse: -20 kPa in a grain that left a 0.1 m column, whose weight
+// gives at most 1.5 kPa). So an isolated particle carries no stress and keeps its volume.
+// "Alone" needs particles smaller than their element: with one particle per cell every particle
+// is alone, so a particle is isolated only when it also fills less than half of its element.
+inline bool is_isolated(int32_t particles_in_element, double volume, double element_area) {
+  return particles_in_element == 1 && 2 * volume < element_area;
+}
+
+// What the stress update takes from the cell pass, and per thread the particle's strain
+// increment with EVS applied (the smoothed value is computed once per run of particles that
+// share a stencil row).
+struct CellSums {
+  const Mesh& mesh;
+  const Stencil& stencil;
+  const std::vector<int32_t>& element_count;
+  const double* node_mean;  // EVS's evs.node_mean; null: EVS off
+};
+class StrainIncrement {
+ public:
+  // The arrays' data pointers are taken once: read through the containers, the compiler would
+  // reload them after every store the stress update makes.
+  StrainIncrement(const CellSums& sums, const Particles& P)
+      : row_(sums.stencil.row.data()), row_node_(sums.stencil.row_node.data()), width_(sums.stencil.width),
+        node_mean_(sums.node_mean), count_(sums.element_count.data()), area_(sums.mesh.area.data()),
+        element_(P.element.data()), volume_(P.volume.data()) {}
+  Vec4 operator()(long p, const Vec4& d) {
+    if (!node_mean_) return d;
+    const int32_t row = row_[p];
+    if (row != run_row_) {
+      run_row_ = row;
+      const int32_t* nodes = row_node_ + static_cast<std::size_t>(row) * width_;
+      smoothed_ = 0;
+      for (int k = 0; k < width_; ++k) smoothed_ += node_mean_[nodes[k]];
+      smoothed_ /= width_;
+    }
+    const double correction = 0.5 * (smoothed_ - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
+    return Vec4(d[0] + correction, d[1] + correction, d[2], d[3]);
+  }
+  bool isolated(long p) const {
+    const int32_t e = element_[p];
+    return is_isolated(count_[e], volume_[p], area_[e]);
+  }
+
+ private:
+  const int32_t* row_;
+  const int32_t* row_node_;
+  int width_;
+  const double* node_mean_;
+  const int32_t* count_;
+  const double* area_;
+  const int32_t* element_;
+  const double* volume_;
+  int32_t run_row_ = -1;
+  double smoothed_ = 0;
+};
 
 // A particle's volume grows to at most this many times its initial volume. Elastic strains and
 // a sand's dilation stay well below; beyond it a material pulled apart (a frictional one at the
@@ -104,14 +160,15 @@ inline double grown_volume(double volume, double trace, const double* initial_vo
 }
 
 // The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
-// kMaxVolumeGrowth V_p(0); an isolated particle instead drops its stress and keeps its volume.
+// kMaxVolumeGrowth V_p(0), with d_eps as EVS leaves it (StrainIncrement); an isolated particle
+// instead drops its stress and keeps its volume.
 // Returns the first particle whose state became non-finite or inverted, or -1.
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const std::vector<uint8_t>& isolated,
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
                      const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
                      const std::vector<double>& initial_volume, int threads);
 
 // Finds each moving particle's element (neighbour walk) and recomputes its stencil row.
-// Returns the first particle that left the domain, or -1.
+// Returns the last particle that left the domain, or -1.
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads);
 // The element walk of relocate_particles alone (a distributed step migrates the particles
 // between it and the stencil): the last particle that left the domain, -1 when none did.

@@ -187,7 +187,7 @@ TEST(ThreadContract, PhaseTimerTimesEveryStepAndChangesNothing) {
   run_steps(untimed, 50);
   EXPECT_EQ(differing_values(timed, untimed), 0);
   EXPECT_EQ(times.steps, 50);
-  for (int phase : {PhaseTimes::ToGrid, PhaseTimes::Contact, PhaseTimes::Evs, PhaseTimes::Stresses})
+  for (int phase : {PhaseTimes::ToGrid, PhaseTimes::Contact, PhaseTimes::CellSums, PhaseTimes::Stresses})
     EXPECT_GT(times.seconds[phase], 0) << PhaseTimes::kNames[phase];
   EXPECT_EQ(times.seconds[PhaseTimes::GridVelocity], 0) << "FLIP has no Lagrangian grid velocity phase";
 }
