@@ -75,59 +75,49 @@ struct TableNow {
 long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
                                 const Config& config, double t, int threads) {
   const long moving = static_cast<long>(P.moving_count);
-  const std::size_t history_width = static_cast<std::size_t>(P.history_width);
   const bool undrained = config.water.mode == WaterMode::Undrained;
   const WaterSettings& water = config.water;
   const TableNow table{water.table.data(), water.table.size(), water.rise.empty() ? 0.0 : water.rise_at(t),
                        water.unit_weight, gravity_fraction(config, t)};
-  // The arrays, read once: a store through a double would otherwise make the compiler reload
-  // the vectors' data pointers for every particle (14 of the loop's 152 instructions a
-  // particle, counted with cachegrind on the 50k-particle slope; docs/water.md, "Cost").
-  const Vec4* const d = d_eps.data();
-  const MaterialState* const materials = config.materials.data();
-  const int32_t* const material_of_body = config.material_of_body.data();
-  const double* const initial_volume = config.initial_volume.data();
-  const Vec2* const x = P.x.data();
-  const Vec2* const v = P.v.data();
-  const int32_t* const body = P.body.data();
-  const auto* const id = P.id.data();
-  Vec4* const stress = P.sigma.data();
-  double* const eps_p = P.eps_p.data();
-  double* const history = history_width > 0 ? P.history.data() : nullptr;
-  double* const volume = P.volume.data();
-  double* const pore_pressure = P.pore_pressure.data();
-  double* const excess = undrained ? P.excess_pore_pressure.data() : nullptr;
   // u times the normal components: a vector product, where a Vec4 built from scalars would go
   // through the stack and stall the store forwarding of its 16-byte loads.
   const Vec4 normal(1, 1, 1, 0);
   long bad = -1;
 #pragma omp parallel num_threads(threads) reduction(max : bad)
   {
+    // The arrays, read once (StressArrays, step.hpp).
+    const StressArrays a(P);
+    const Vec4* const d = d_eps.data();
+    const MaterialState* const materials = config.materials.data();
+    const int32_t* const material_of_body = config.material_of_body.data();
+    const double* const initial_volume = config.initial_volume.data();
+    double* const pore_pressure = P.pore_pressure.data();
+    double* const excess = undrained ? P.excess_pore_pressure.data() : nullptr;
     StrainIncrement increment(cells, P);
 #pragma omp for schedule(dynamic, 1024)
     for (long p = 0; p < moving; ++p) {
-      Vec4& sigma = stress[p];  // total; effective in between (in place: a copy measured slower)
+      Vec4& sigma = a.sigma[p];  // total; effective in between (in place: a copy measured slower)
       double u;
       if (increment.isolated(p)) {
         sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
-        u = table.pore_pressure(x[p]);
+        u = table.pore_pressure(a.x[p]);
       } else {
-        const MaterialState& material = materials[material_of_body[body[p]]];
+        const MaterialState& material = materials[material_of_body[a.body[p]]];
         const Vec4 dp = increment(p, d[p]);
         sigma += pore_pressure[p] * normal;
-        update_stress(material, sigma, dp, eps_p[p], history ? history + p * history_width : nullptr);
+        update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
         // The new pore pressure after the material's call, so that less lives across it.
         const double volumetric = dp[0] + dp[1] + dp[2];
-        u = table.pore_pressure(x[p]);
+        u = table.pore_pressure(a.x[p]);
         if (undrained) {
           excess[p] -= material.pore_stiffness * volumetric;
           u += excess[p];
         }
         sigma -= u * normal;
-        volume[p] = grown_volume(volume[p], volumetric, initial_volume, id[p]);
+        a.volume[p] = grown_volume(a.volume[p], volumetric, initial_volume, a.id[p]);
       }
       pore_pressure[p] = u;
-      if (!std::isfinite(sigma.sum() + x[p].sum() + v[p].sum() + u) || !(volume[p] > 0)) bad = std::max(bad, p);
+      if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum() + u) || !(a.volume[p] > 0)) bad = std::max(bad, p);
     }
   }
   return bad;

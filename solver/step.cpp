@@ -521,39 +521,29 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSum
                      const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
                      const std::vector<double>& initial_volume, int threads) {
   const long moving = static_cast<long>(P.moving_count);
-  const std::size_t history_width = static_cast<std::size_t>(P.history_width);
-  // The arrays, read once: through the containers the compiler reloads their data pointers after
-  // every store to a particle (as in update_stresses_with_water).
-  const Vec4* const d = d_eps.data();
-  const MaterialState* const material_of = materials.data();
-  const int32_t* const material_index = material_of_body.data();
-  const double* const cap = initial_volume.data();
-  const Vec2* const x = P.x.data();
-  const Vec2* const v = P.v.data();
-  const int32_t* const body = P.body.data();
-  const auto* const id = P.id.data();
-  Vec4* const stress = P.sigma.data();
-  double* const eps_p = P.eps_p.data();
-  double* const history = history_width > 0 ? P.history.data() : nullptr;
-  double* const volume = P.volume.data();
   long bad = -1;
 #pragma omp parallel num_threads(threads) reduction(max : bad)
   {
+    const StressArrays a(P);
+    const Vec4* const d = d_eps.data();
+    const MaterialState* const material_of = materials.data();
+    const int32_t* const material_index = material_of_body.data();
+    const double* const cap = initial_volume.data();
     StrainIncrement increment(cells, P);
     // Dynamic chunks: plastic particles, which cost more, cluster in the sliding mass, so equal
     // shares of particles are unequal shares of work.
 #pragma omp for schedule(dynamic, 1024)
     for (long p = 0; p < moving; ++p) {
-      Vec4& sigma = stress[p];
+      Vec4& sigma = a.sigma[p];
       if (increment.isolated(p)) {
         sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
       } else {
-        const MaterialState& material = material_of[material_index[body[p]]];
+        const MaterialState& material = material_of[material_index[a.body[p]]];
         const Vec4 dp = increment(p, d[p]);
-        update_stress(material, sigma, dp, eps_p[p], history ? history + p * history_width : nullptr);
-        volume[p] = grown_volume(volume[p], dp[0] + dp[1] + dp[2], cap, id[p]);
+        update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
+        a.volume[p] = grown_volume(a.volume[p], dp[0] + dp[1] + dp[2], cap, a.id[p]);
       }
-      if (!std::isfinite(sigma.sum() + x[p].sum() + v[p].sum()) || !(volume[p] > 0)) bad = std::max(bad, p);
+      if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum()) || !(a.volume[p] > 0)) bad = std::max(bad, p);
     }
   }
   return bad;
