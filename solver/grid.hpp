@@ -22,6 +22,7 @@ struct Grid {
 
 struct Grids {
   std::vector<int32_t> active;  // nodes touched by a particle's stencil this step
+  std::vector<int32_t> active_offsets;  // [thread + 1]: where each thread's share of `active` starts
   std::vector<Grid> fields;     // per field group with contact (fields[field_index[b]] is body b's), else fields[0]
   bool per_body = false;        // contact: a field per group of bonded bodies
   // [body] -> its field: with contact its group's (ContactGroups; body b's own without bonded

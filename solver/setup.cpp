@@ -201,12 +201,18 @@ void sort_particles(Simulation& sim) {
   Particles& P = sim.particles;
   const std::size_t n = P.size();
   const auto& fixed = sim.config.body_fixed;
+  // A counting sort on the key (fixed, element): stable, so particles of one element keep their
+  // order, and linear in the particles and the elements (a comparison sort was 1 % of the
+  // slope's instructions).
+  const std::size_t elements = sim.config.mesh.element_count();
+  const auto key = [&](std::size_t p) {
+    return (fixed[P.body[p]] ? elements : 0) + static_cast<std::size_t>(P.element[p]);
+  };
+  std::vector<int32_t> start(2 * elements + 1, 0);
+  for (std::size_t p = 0; p < n; ++p) ++start[key(p) + 1];
+  for (std::size_t k = 0; k < 2 * elements; ++k) start[k + 1] += start[k];
   std::vector<int32_t> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
-    const bool fa = fixed[P.body[a]], fb = fixed[P.body[b]];
-    return fa != fb ? fb : P.element[a] < P.element[b];
-  });
+  for (std::size_t p = 0; p < n; ++p) order[static_cast<std::size_t>(start[key(p)]++)] = static_cast<int32_t>(p);
   permute_particles(P, order);
   P.moving_count = 0;
   while (P.moving_count < n && !fixed[P.body[P.moving_count]]) ++P.moving_count;

@@ -120,17 +120,36 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
   const long n = static_cast<long>(particles);
   const int32_t current = stamp;
   const int W = S.width;
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (long p = 0; p < n; ++p) {
-    // Particles sorted by element mostly share their row with the one before: its nodes are marked.
-    if (p > 0 && S.row[p] == S.row[p - 1]) continue;
-    const int32_t* nodes = S.nodes(p);
-    for (int k = 0; k < W; ++k)
-      std::atomic_ref<int32_t>(node_stamp[nodes[k]]).store(current, std::memory_order_relaxed);
+  const long nodes = static_cast<long>(node_stamp.size());
+  std::vector<int32_t>& offsets = grids.active_offsets;
+  offsets.assign(static_cast<std::size_t>(threads) + 1, 0);
+#pragma omp parallel num_threads(threads)
+  {
+#pragma omp for schedule(static)
+    for (long p = 0; p < n; ++p) {
+      // Particles sorted by element mostly share their row with the one before: its nodes are marked.
+      if (p > 0 && S.row[p] == S.row[p - 1]) continue;
+      const int32_t* nodes_of_p = S.nodes(p);
+      for (int k = 0; k < W; ++k)
+        std::atomic_ref<int32_t>(node_stamp[nodes_of_p[k]]).store(current, std::memory_order_relaxed);
+    }
+    // The list, ascending: each thread counts the marked nodes of its own range of the node
+    // numbers, then writes them from the offset the counts before its range give.
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    const long begin = nodes * t / team, end = nodes * (t + 1) / team;
+    int32_t count = 0;
+    for (long i = begin; i < end; ++i) count += node_stamp[i] == current;
+    offsets[t + 1] = count;
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int k = 0; k < team; ++k) offsets[k + 1] += offsets[k];
+      grids.active.resize(static_cast<std::size_t>(offsets[team]));
+    }
+    int32_t* out = grids.active.data() + offsets[t];
+    for (long i = begin; i < end; ++i)
+      if (node_stamp[i] == current) *out++ = static_cast<int32_t>(i);
   }
-  grids.active.clear();
-  for (int32_t i = 0; i < static_cast<int32_t>(node_stamp.size()); ++i)
-    if (node_stamp[i] == current) grids.active.push_back(i);
 }
 
 void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
