@@ -94,8 +94,8 @@ struct Scratch {
   std::vector<double> load_factor;     // this step's ramp factor per surface load
   PhaseTimes* phase_times = nullptr;   // not owned; null: no timing
   // Problems found inside parallel loops, reported after them (-1: none).
-  long bad_particle = -1;   // first particle with a non-finite state
-  long lost_particle = -1;  // first particle that left the domain
+  long bad_particle = -1;   // a particle with a non-finite state (the largest index)
+  long lost_particle = -1;  // a particle that left the domain (the largest index)
   bool failed_elsewhere = false;  // on several ranks: the step failed on another rank
 };
 
