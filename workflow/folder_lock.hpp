@@ -2,10 +2,18 @@
 // fos) first takes an exclusive flock on FOLDER/.talus.lock and holds it until it ends. A second
 // talus aimed at the same folder stops at once, before it touches a file, with a message naming
 // the holder's pid and command line (written into the lock file by the holder).
+//
+// A failed stage leaves no empty folder behind: a folder that create_output_folder made for this
+// process, and that holds nothing but the lock file when its FolderLock is left by an exception,
+// is removed with the lock file and the parents that were made for it.
 #pragma once
 #include <string>
 
 namespace talus::workflow {
+
+// Creates `folder` and its missing parents, and remembers which of them it made; throws
+// talus::Error naming the folder when it cannot be one (a file, /dev/null, an empty name).
+void create_output_folder(const std::string& folder);
 
 class FolderLock {
  public:
@@ -16,7 +24,12 @@ class FolderLock {
   FolderLock& operator=(const FolderLock&) = delete;
 
  private:
+  void remove_if_left_empty();
+
   int fd_ = -1;
+  std::string folder_;
+  std::string created_root_;   // the outermost folder made for this one; empty if it existed
+  int exceptions_ = 0;         // std::uncaught_exceptions() when the lock was taken
 };
 
 }  // namespace talus::workflow

@@ -26,11 +26,7 @@ namespace {
 
 // `folder` created (with its parents) if missing; a path that cannot be a folder is bad input.
 std::string created_folder(const std::string& folder) {
-  if (folder.empty()) throw Error("--out: expected a folder, got an empty name");
-  std::error_code error;
-  fs::create_directories(folder, error);
-  if (!error && !fs::is_directory(folder, error)) error = std::make_error_code(std::errc::not_a_directory);
-  if (error) throw Error(located(folder, "", "cannot use this as the output folder: " + error.message()));
+  create_output_folder(folder);
   return folder;
 }
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "support/test_support.hpp"
@@ -81,13 +82,22 @@ std::string scene_change(const fs::path& dir, const std::string& from, const std
 
 namespace {
 
-std::vector<std::string> leftovers(const fs::path& out) {
+std::vector<std::string> names_in(const fs::path& out) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(out)) names.push_back(entry.path().filename().string());
+  return names;
+}
+
+// What the failed run left in `out`: a folder it made (it must remove it again), else the files
+// it added or that look like output (the lock file of a folder that existed may stay).
+std::vector<std::string> leftovers(const fs::path& out, bool existed, const std::vector<std::string>& before) {
   std::vector<std::string> found;
   if (!fs::exists(out)) return found;
-  for (const auto& entry : fs::directory_iterator(out)) {
-    const std::string name = entry.path().filename().string();
-    if (name == "model.h5" || name == "results.h5" || name == "metrics.json" || name == "checkpoint.h5" ||
-        entry.path().extension() == ".tmp")
+  if (!existed) found.push_back(out.string() + " (the run made this folder)");
+  for (const std::string& name : names_in(out)) {
+    const bool added = std::find(before.begin(), before.end(), name) == before.end();
+    if ((added && name != ".talus.lock") || name == "model.h5" || name == "results.h5" || name == "metrics.json" ||
+        name == "checkpoint.h5" || fs::path(name).extension() == ".tmp")
       found.push_back(name);
   }
   return found;
@@ -100,12 +110,15 @@ void expect_rows_fail_cleanly(const std::vector<Row>& rows) {
     SCOPED_TRACE(row.what);
     ScratchDir dir("bad-input");
     const fs::path out = dir.path() / "out";
-    const auto result = run_talus(row.prepare(dir.path()) + " --out " + out.string());
+    const std::string arguments = row.prepare(dir.path());
+    const bool existed = fs::exists(out);
+    const std::vector<std::string> before = existed ? names_in(out) : std::vector<std::string>{};
+    const auto result = run_talus(arguments + " --out " + out.string());
     EXPECT_EQ(result.status, 1) << result.output;
     for (const auto& word : row.words)
       EXPECT_NE(result.output.find(word), std::string::npos) << "'" << word << "' not in: " << result.output;
     EXPECT_EQ(result.output.find("internal error"), std::string::npos) << result.output;
-    const auto left = leftovers(out);
+    const auto left = leftovers(out, existed, before);
     EXPECT_TRUE(left.empty()) << "left behind: " << (left.empty() ? "" : left.front());
   }
 }
