@@ -1,6 +1,8 @@
 #include "solver/parallel.hpp"
 
 #include <sched.h>
+#include <sys/auxv.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -83,8 +85,23 @@ ThreadChoice choose_threads(long particles, int requested) {
   return choice;
 }
 
+namespace {
+
+// Whether /proc/self/exe is this program: the file the kernel ran (AT_EXECFN) and /proc/self/exe
+// are one file. Under a tool that runs the program itself (valgrind) /proc/self/exe is the tool,
+// which refuses to be run directly, so the program is not restarted there.
+bool self_is_this_program() {
+  const char* name = reinterpret_cast<const char*>(getauxval(AT_EXECFN));
+  struct stat named {}, self {};
+  return name && stat(name, &named) == 0 && stat("/proc/self/exe", &self) == 0 && named.st_dev == self.st_dev &&
+         named.st_ino == self.st_ino;
+}
+
+}  // namespace
+
 void bound_openmp_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT") || std::getenv(kBusyCoresVariable)) return;
+  if (!self_is_this_program()) return;
   const int busy = busy_cores_now();
   if (busy == 0) return;  // a quiet machine: OpenMP's own spin is the fastest
   const std::string count = std::to_string(busy);

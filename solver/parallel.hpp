@@ -57,7 +57,8 @@ ThreadChoice choose_threads(long particles, int requested);
 // program again (execv of /proc/self/exe with the same arguments; libgomp reads its settings
 // when it is loaded, before main) with GOMP_SPINCOUNT = kSpinCount and kBusyCoresVariable set;
 // on a quiet machine it does nothing. A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT is left
-// alone, and so is a process where /proc/self/exe cannot be run.
+// alone, and so is a process where /proc/self/exe cannot be run or is not this program (under
+// valgrind it is the tool, which cannot be run directly).
 // Call it first thing in main.
 inline constexpr const char* kSpinCount = "300";
 void bound_openmp_spin(char** argv);
