@@ -60,6 +60,10 @@ struct Measurement {
   int threads = 0;
   double updates_per_second = 0, bytes_per_particle = 0, loop_seconds = 0;
   double build_seconds = 0, model_file_seconds = 0, simulation_seconds = 0;  // the set-up
+  double frame_seconds = 0;  // of the loop: writing the frames after the first (the last one here)
+  double stepping_rate() const {  // particle-updates/s of the loop without its frames
+    return static_cast<double>(particles) * steps / (loop_seconds - frame_seconds);
+  }
   double phase[kPhases] = {};                                                  // s over the loop
 };
 
@@ -97,9 +101,9 @@ int run_case(long target, int threads) {
   const auto summary = solve_timed(std::move(model), folder, threads, phases);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  std::printf("%zu %ld %d %.6e %.2f %.4f %.4f %.4f %.4f", summary.particles, summary.steps, summary.threads,
+  std::printf("%zu %ld %d %.6e %.2f %.4f %.4f %.4f %.4f %.4f", summary.particles, summary.steps, summary.threads,
               summary.particle_updates_per_second(), usage.ru_maxrss * 1024.0 / summary.particles,
-              summary.loop_seconds, build_seconds, model_file_seconds, summary.setup_seconds);
+              summary.loop_seconds, build_seconds, model_file_seconds, summary.setup_seconds, summary.frame_seconds);
   for (double s : phases.seconds) std::printf(" %.5f", s);
   std::printf("\n");
   return 0;
@@ -120,7 +124,8 @@ int run_model(const std::string& model_file, int threads) {
     phased += phases.seconds[i];
     std::printf("  %-28s %7.2f ns\n", PhaseTimes::kNames[i], 1e9 * phases.seconds[i] / updates);
   }
-  std::printf("  %-28s %7.2f ns\n", "other", 1e9 * (summary.loop_seconds - phased) / updates);
+  std::printf("  %-28s %7.2f ns\n", "frames written", 1e9 * summary.frame_seconds / updates);
+  std::printf("  %-28s %7.2f ns\n", "other", 1e9 * (summary.loop_seconds - phased - summary.frame_seconds) / updates);
   return 0;
 }
 
@@ -128,9 +133,9 @@ Measurement measure(const std::string& self, long target, int threads) {
   const std::string command = self + " --case " + std::to_string(target) + " " + std::to_string(threads);
   FILE* pipe = popen(command.c_str(), "r");
   Measurement m;
-  bool ok = pipe && std::fscanf(pipe, "%ld %ld %d %lf %lf %lf %lf %lf %lf", &m.particles, &m.steps, &m.threads,
+  bool ok = pipe && std::fscanf(pipe, "%ld %ld %d %lf %lf %lf %lf %lf %lf %lf", &m.particles, &m.steps, &m.threads,
                                 &m.updates_per_second, &m.bytes_per_particle, &m.loop_seconds, &m.build_seconds,
-                                &m.model_file_seconds, &m.simulation_seconds) == 9;
+                                &m.model_file_seconds, &m.simulation_seconds, &m.frame_seconds) == 10;
   for (int i = 0; ok && i < kPhases; ++i) ok = std::fscanf(pipe, "%lf", &m.phase[i]) == 1;
   if (!ok) {
     std::fprintf(stderr, "talus_bench_throughput: case %ld/%d failed\n", target, threads);
@@ -252,13 +257,13 @@ int main(int argc, char** argv) {
     table_csv << "particles,threads,steps,repeats,median_particle_updates_per_second,min,max,bytes_per_particle,"
                  "build_s,model_file_s,simulation_s,loop_s,bandwidth_bound,fraction_of_bound";
     for (const char* name : PhaseTimes::kNames) table_csv << "," << name << "_s";
-    table_csv << ",other_s\n";
+    table_csv << ",frames_s,other_s,stepping_rate\n";
   }
   std::vector<Measurement> medians;
   std::printf("| particles | threads | steps | set-up: build + model.h5 + simulation (s) | particle-updates/s (median "
-              "of %d) | range | bytes/particle | of the bandwidth bound |\n",
+              "of %d) | range | without the last frame's writing | bytes/particle | of the bandwidth bound |\n",
               repeats);
-  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
   for (long target : sizes)
     for (std::size_t ti = 0; ti < thread_counts.size(); ++ti) {
       const int threads = thread_counts[ti];
@@ -268,10 +273,10 @@ int main(int argc, char** argv) {
                 [](const auto& a, const auto& b) { return a.updates_per_second < b.updates_per_second; });
       const Measurement& m = runs[runs.size() / 2];
       const double bound = bandwidth[ti] / (2 * state_bytes);
-      std::printf("| %ld | %d | %ld | %.2f + %.2f + %.2f | %.3e | %.2e - %.2e | %.0f | %.0f%% |\n", m.particles,
-                  threads, m.steps, m.build_seconds, m.model_file_seconds, m.simulation_seconds,
+      std::printf("| %ld | %d | %ld | %.2f + %.2f + %.2f | %.3e | %.2e - %.2e | %.3e | %.0f | %.0f%% |\n",
+                  m.particles, threads, m.steps, m.build_seconds, m.model_file_seconds, m.simulation_seconds,
                   m.updates_per_second, runs.front().updates_per_second, runs.back().updates_per_second,
-                  m.bytes_per_particle, 100 * m.updates_per_second / bound);
+                  m.stepping_rate(), m.bytes_per_particle, 100 * m.updates_per_second / bound);
       std::fflush(stdout);
       medians.push_back(m);
       double timed = 0;
@@ -283,7 +288,8 @@ int main(int argc, char** argv) {
                   << m.model_file_seconds << "," << m.simulation_seconds << "," << m.loop_seconds << "," << bound
                   << "," << m.updates_per_second / bound;
         for (double s : m.phase) table_csv << "," << s;
-        table_csv << "," << m.loop_seconds - timed << "\n";
+        table_csv << "," << m.frame_seconds << "," << m.loop_seconds - timed - m.frame_seconds << ","
+                  << m.stepping_rate() << "\n";
       }
     }
   // Where the loop's time goes: each phase's share of the median run's loop, in ns per particle-update.
@@ -298,14 +304,30 @@ int main(int argc, char** argv) {
     for (const Measurement& m : medians) std::printf(" %.1f |", per_update(m, m.phase[p]));
     std::printf("\n");
   }
-  std::printf("| other (time step, observers, sorting) |");
+  std::printf("| frames written (results.h5) |");
+  for (const Measurement& m : medians) std::printf(" %.1f |", per_update(m, m.frame_seconds));
+  std::printf("\n| other (time step, observers, sorting) |");
   for (const Measurement& m : medians) {
     double timed = 0;
     for (double s : m.phase) timed += s;
-    std::printf(" %.1f |", per_update(m, m.loop_seconds - timed));
+    std::printf(" %.1f |", per_update(m, m.loop_seconds - timed - m.frame_seconds));
   }
   std::printf("\n| **loop** |");
   for (const Measurement& m : medians) std::printf(" %.1f |", per_update(m, m.loop_seconds));
   std::printf("\n");
+  // Each case against the smallest at the same thread count. Every case writes one frame in its
+  // loop (the last), so that frame weighs 20 times more per update over the 20 steps of 10M
+  // particles than over the 400 of 50k: the second ratio leaves it out.
+  std::printf("\nRate against the smallest case of the same thread count (loop; loop without the frame):\n");
+  for (const Measurement& base : medians) {
+    bool smallest = true;
+    for (const Measurement& other : medians) smallest &= other.threads != base.threads || other.particles >= base.particles;
+    if (!smallest) continue;
+    for (const Measurement& m : medians)
+      if (m.threads == base.threads && m.particles > base.particles)
+        std::printf("  %ld against %ld particles, %d thread%s: %.2f; %.2f\n", m.particles, base.particles, m.threads,
+                    m.threads == 1 ? "" : "s", m.updates_per_second / base.updates_per_second,
+                    m.stepping_rate() / base.stepping_rate());
+  }
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -23,6 +24,7 @@ Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
 }
 
 void FrameWriter::write(const Simulation& sim) {
+  const auto start = std::chrono::steady_clock::now();
   if (!sim.domain.distributed()) {
     writer_->write_frame(sim);
   } else if (ranks_) {
@@ -35,6 +37,7 @@ void FrameWriter::write(const Simulation& sim) {
   }
   last_step_ = sim.steps;
   loop_.next_output = next_multiple_after(sim.time, interval_, tolerance_);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 Verdict HistoryRecorder::after_step(Simulation& sim, const StepEvent& event) {

@@ -37,6 +37,7 @@ class FrameWriter : public Observer {
   // Writes a frame now (the last one of a run that stops between output times).
   void write(const Simulation& sim);
   bool written_at(const Simulation& sim) const { return last_step_ == sim.steps; }
+  double seconds() const { return seconds_; }  // wall time spent writing the frames so far
 
  private:
   bool due(const Simulation& sim) const { return sim.time >= loop_.next_output - tolerance_; }
@@ -45,6 +46,7 @@ class FrameWriter : public Observer {
   LoopState& loop_;
   double interval_, tolerance_;
   long last_step_ = -1;
+  double seconds_ = 0;
 };
 
 // A row of the energy history every `interval` steps, and whenever another observer has the

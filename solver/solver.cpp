@@ -200,6 +200,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   summary.thread_choice = threads.why;
   summary.stopped_at_rest = rest.at_rest(sim);
   summary.loop_seconds = seconds();
+  summary.frame_seconds = frames.seconds();
   summary.setup_seconds = setup_seconds;
   summary.steps = sim.steps;
   summary.simulated_time = sim.time;

@@ -37,6 +37,7 @@ struct SolveSummary {
   double simulated_time = 0;  // s
   double setup_seconds = 0;   // wall time before the loop: the simulation, results.h5 and its first frame
   double loop_seconds = 0;    // wall time of the time loop
+  double frame_seconds = 0;   // of which writing the frames (results.h5) after the first
   long frames = 0;
   bool stopped_at_rest = false;
   int ranks = 1;                   // MPI ranks (domain.hpp)
