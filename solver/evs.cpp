@@ -76,6 +76,10 @@ void sum_cells(const Mesh& mesh, const Particles& P, bool evs_on, const std::vec
       const std::size_t team = evs.element_strain.size();
 #pragma omp for schedule(static)
       for (long e = 0; e < elements; ++e) {
+        // An element without particles, which had no EVS volume at the last step either, has
+        // nothing to add: no thread summed into it, and its mean and volume are already zero.
+        // (Most of a runout scene's mesh is empty.)
+        if (element_count[e] == 0 && evs.volume[e] == 0) continue;
         double strain_sum = 0, volume_sum = 0;
         for (std::size_t t = 0; t < team; ++t) {
           strain_sum += evs.element_strain[t][e];
