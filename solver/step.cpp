@@ -568,10 +568,15 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSum
   return bad;
 }
 
-long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads) {
-  // One pass: the walk's last weights are the particle's stencil weights in its element.
-  // (It was two, the walk and then the stencil; one pass runs 300 million fewer instructions
-  // over 150 steps of the 48,812-particle slope, docs/benchmarks.md.)
+namespace {
+
+// The neighbour walk of every moving particle to its element; with a stencil, in the same pass,
+// the particle's row from the walk's last weights, which are its stencil weights in that element.
+// (The walk and the stencil were two passes; one runs 300 million fewer instructions over 150
+// steps of the 48,812-particle slope, docs/benchmarks.md.) Returns the last particle that left
+// the domain, or -1. A template, so that the walk alone tests nothing per particle.
+template <bool kWithStencil>
+long walk_to_elements(const Mesh& mesh, Particles& P, Stencil* stencil, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   long lost = -1;
 #pragma omp parallel for schedule(static) reduction(max : lost) num_threads(threads)
@@ -583,24 +588,19 @@ long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int th
       continue;
     }
     P.element[p] = e;
-    compute_stencil_row(w, e, static_cast<std::size_t>(p), stencil);
+    if constexpr (kWithStencil) compute_stencil_row(w, e, static_cast<std::size_t>(p), *stencil);
   }
   return lost;
 }
 
+}  // namespace
+
+long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads) {
+  return walk_to_elements<true>(mesh, P, &stencil, threads);
+}
+
 long locate_particles(const Mesh& mesh, Particles& P, int threads) {
-  const long moving = static_cast<long>(P.moving_count);
-  long lost = -1;
-#pragma omp parallel for schedule(static) reduction(max : lost) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    const int32_t e = locate(mesh, P.element[p], P.x[p]);
-    if (e < 0) {
-      lost = std::max(lost, p);
-      continue;
-    }
-    P.element[p] = e;
-  }
-  return lost;
+  return walk_to_elements<false>(mesh, P, nullptr, threads);
 }
 
 }  // namespace talus::solver
