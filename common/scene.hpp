@@ -147,8 +147,18 @@ struct ContactGroups {
 ContactGroups contact_groups(const ContactSettings& contact, const std::vector<std::string>& names,
                              const std::vector<uint8_t>& fixed);
 
+// How the background mesh's triangles are laid out (docs/scenes.md, [mesh]).
+enum class MeshPattern {
+  Delaunay,  // gmsh's frontal-Delaunay triangles of edge mesh.size
+  // Quadrilaterals of edge mesh.size (gmsh's Blossom recombination), each cut by its diagonals
+  // into four triangles: Nagtegaal, Parks and Rice's crossed triangles (1974), which admit plastic
+  // flow at constant volume without locking (docs/slope.md, "Crossed triangles").
+  Crossed,
+};
+
 struct MeshSettings {
   std::optional<double> size;    // m; characteristic element size, overrides the .geo
+  MeshPattern pattern = MeshPattern::Delaunay;
   std::string domain = "domain"; // physical surface meshed as the background grid
   // [mesh.parameters]: NAME = number sets the .geo's DefineConstant[NAME = {..., Name
   // "Parameters/NAME"}] (a gmsh ONELAB parameter) before the .geo is read.

@@ -42,6 +42,10 @@ void read_mesh(TableReader& top, Scene& scene) {
   TableReader mesh = top.child(top.table("mesh"), "mesh");
   if (mesh.has("size")) scene.mesh.size = mesh.number("size", std::nullopt, 0, kInf, false);
   scene.mesh.domain = mesh.text("domain", scene.mesh.domain);
+  const std::string pattern = mesh.text("pattern", "delaunay");
+  if (pattern == "delaunay") scene.mesh.pattern = MeshPattern::Delaunay;
+  else if (pattern == "crossed") scene.mesh.pattern = MeshPattern::Crossed;
+  else mesh.fail("pattern", "unknown pattern '" + echoed(pattern) + "' (expected delaunay or crossed)");
   if (const toml::table* parameters = mesh.table("parameters")) {
     TableReader values = mesh.child(parameters, "mesh.parameters");
     for (const auto& [key, node] : *parameters) {

@@ -164,7 +164,9 @@ SizeEstimate estimate_size(const Scene& scene) {
   const double h = estimate.element_size;
   if (!(h > 0) || !(estimate.domain_area > 0) || !std::isfinite(h)) return estimate;
   estimate.known = true;
-  estimate.element_area = std::sqrt(3.0) / 4 * h * h;
+  // Delaunay: equilateral triangles of edge h; crossed: a quadrilateral of edge h in four.
+  const bool crossed = scene.mesh.pattern == MeshPattern::Crossed;
+  estimate.element_area = crossed ? h * h / 4 : std::sqrt(3.0) / 4 * h * h;
   estimate.triangles = estimate.domain_area / estimate.element_area;
   estimate.nodes = estimate.triangles / 2;
   for (std::size_t b = 0; b < scene.bodies.size(); ++b)
@@ -187,7 +189,9 @@ void check_size(const Scene& scene) {
                             number(e.particles) + " particles, about " + number(e.bytes / 1e9) +
                             " GB to solve (500 B per particle, 200 B per node, 150 B per triangle), more than the " +
                             number(available / 1e9) + " GB of MemAvailable: raise mesh.size"));
-  check_steps(scene, e.element_size);
+  // The time step follows the smallest altitude: h/2 in a crossed square, that of an equilateral
+  // triangle of edge h/sqrt(3).
+  check_steps(scene, scene.mesh.pattern == MeshPattern::Crossed ? e.element_size / std::sqrt(3.0) : e.element_size);
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     const double area = e.body_areas[b];

@@ -2,6 +2,8 @@
 
 #include <gmsh.h>
 
+#include <Eigen/LU>
+
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -17,6 +19,7 @@ namespace {
 
 constexpr int kLineType = 1;      // gmsh element type: 2-node line
 constexpr int kTriangleType = 2;  // gmsh element type: 3-node triangle
+constexpr int kQuadrangleType = 3;  // gmsh element type: 4-node quadrangle
 
 // gmsh 4.8 throws the error text as a std::string; later versions throw std::runtime_error.
 template <class Action>
@@ -54,6 +57,49 @@ void copy_nodes(GeoMesh& mesh) {
   for (std::size_t i = 0; i < tags.size(); ++i) mesh.node_position[tags[i]] = {xyz[3 * i], xyz[3 * i + 1]};
 }
 
+// Appends the crossed triangles of quadrilateral q (its corners in order around it): the four
+// triangles from each edge to a new node where the diagonals cross. That point, not the
+// centroid, is what makes the four triangles' volume changes linearly dependent (Nagtegaal,
+// Parks and Rice 1974), so that the quadrilateral constrains the flow's volume once, not four
+// times. A quadrilateral that is not convex (its diagonals do not cross inside it) is cut in two
+// along the diagonal that keeps both halves positive, and counted.
+void cross_quadrilateral(const std::array<NodeTag, 4>& q, GeoMesh& mesh, std::vector<TriangleTags>& triangles) {
+  Eigen::Vector2d corner[4];
+  for (int k = 0; k < 4; ++k) corner[k] = mesh.node_position[q[k]];
+  // corner0 + s (corner2 - corner0) = corner1 + t (corner3 - corner1)
+  Eigen::Matrix2d M;
+  M.col(0) = corner[2] - corner[0];
+  M.col(1) = corner[1] - corner[3];
+  const Eigen::Vector2d st = M.fullPivLu().solve(corner[1] - corner[0]);
+  constexpr double kMargin = 0.02;  // the crossing at least 2 % of a diagonal from its ends
+  const bool convex = std::abs(M.determinant()) > 0 && st.minCoeff() > kMargin && st.maxCoeff() < 1 - kMargin;
+  if (convex) {
+    const NodeTag centre = mesh.node_position.size();
+    mesh.node_position.push_back(corner[0] + st[0] * (corner[2] - corner[0]));
+    for (int k = 0; k < 4; ++k) triangles.push_back({q[k], q[(k + 1) % 4], centre});
+    return;
+  }
+  auto twice_area = [&](int a, int b, int c) {
+    const Eigen::Vector2d u = corner[b] - corner[a], v = corner[c] - corner[a];
+    return u.x() * v.y() - u.y() * v.x();
+  };
+  // The diagonal 0-2 keeps both halves on the quadrilateral's side if they turn the same way.
+  const double sign = twice_area(0, 1, 2) + twice_area(0, 2, 3) + twice_area(1, 2, 3) + twice_area(1, 3, 0);
+  if (twice_area(0, 1, 2) * sign > 0 && twice_area(0, 2, 3) * sign > 0) {
+    triangles.push_back({q[0], q[1], q[2]});
+    triangles.push_back({q[0], q[2], q[3]});
+  } else if (twice_area(1, 2, 3) * sign > 0 && twice_area(1, 3, 0) * sign > 0) {
+    triangles.push_back({q[1], q[2], q[3]});
+    triangles.push_back({q[1], q[3], q[0]});
+  } else {
+    std::ostringstream where;
+    where << "(" << corner[0].x() << ", " << corner[0].y() << ") m";
+    throw Error(located(mesh.path, "", "gmsh made a degenerate quadrilateral at " + where.str() +
+                                           ": it cannot be cut into triangles (try another mesh.size)"));
+  }
+  ++mesh.quadrilaterals_cut_in_two;
+}
+
 void copy_elements(GeoMesh& mesh) {
   // getElementsByType takes non-empty output vectors as preallocated (for its multi-task
   // mode) and then insists on their size: hand it empty ones every time.
@@ -72,13 +118,22 @@ void copy_elements(GeoMesh& mesh) {
     std::vector<int> types;
     gmsh::model::mesh::getElementTypes(types, 2, tag);
     for (int type : types)
-      if (type != kTriangleType) mesh.surfaces_with_other_elements.insert(tag);
+      if (type != kTriangleType && type != kQuadrangleType) mesh.surfaces_with_other_elements.insert(tag);
     element_tags.clear();
     node_tags.clear();
     gmsh::model::mesh::getElementsByType(kTriangleType, element_tags, node_tags, tag);
     auto& triangles = mesh.surface_triangles[tag];
     for (std::size_t i = 0; i + 2 < node_tags.size(); i += 3)
       triangles.push_back({node_tags[i], node_tags[i + 1], node_tags[i + 2]});
+    // Quadrilaterals: only the crossed pattern asks gmsh for them (a .geo's own Recombine is
+    // turned off otherwise).
+    element_tags.clear();
+    node_tags.clear();
+    gmsh::model::mesh::getElementsByType(kQuadrangleType, element_tags, node_tags, tag);
+    for (std::size_t i = 0; i + 3 < node_tags.size(); i += 4) {
+      cross_quadrilateral({node_tags[i], node_tags[i + 1], node_tags[i + 2], node_tags[i + 3]}, mesh, triangles);
+      ++mesh.quadrilaterals;
+    }
   }
 }
 
@@ -166,7 +221,7 @@ void open_geometry(const std::string& geo_path, const std::map<std::string, doub
 }
 
 GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size, const std::string& named_by,
-                      const std::map<std::string, double>& parameters) {
+                      const std::map<std::string, double>& parameters, bool crossed) {
   namespace fs = std::filesystem;
   // gmsh::open of a missing file logs a warning and yields an empty model: check first.
   std::error_code error;
@@ -176,11 +231,22 @@ GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& 
 
   GmshSession session;
   open_geometry(geo_path, parameters);
-  // What the solver requires, whatever the .geo says: linear triangles only.
+  // What the solver requires, whatever the .geo says: linear triangles only, or for the crossed
+  // pattern linear quadrilaterals that copy_elements cuts into triangles. gmsh makes those by
+  // recombining a triangle mesh of twice the size into quadrilaterals (Blossom) and subdividing
+  // each into four, so every element is a quadrilateral of about the size asked for.
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
-  gmsh::option::setNumber("Mesh.RecombineAll", 0);
-  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 0);
-  if (size) with_gmsh_errors(geo_path, "set the element size", [&] { override_sizes(*size); });
+  gmsh::option::setNumber("Mesh.RecombineAll", crossed ? 1 : 0);
+  gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", crossed ? 1 : 0);
+  if (crossed) {
+    gmsh::option::setNumber("Mesh.RecombinationAlgorithm", 1);  // Blossom
+    if (!size) {
+      double factor = 1;
+      gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);
+      gmsh::option::setNumber("Mesh.MeshSizeFactor", 2 * factor);
+    }
+  }
+  if (size) with_gmsh_errors(geo_path, "set the element size", [&] { override_sizes(crossed ? 2 * *size : *size); });
   with_gmsh_errors(geo_path, "mesh the geometry", [&] { gmsh::model::mesh::generate(2); });
 
   GeoMesh mesh;

@@ -34,6 +34,9 @@ struct GeoMesh {
   std::map<int, std::vector<TriangleTags>> surface_triangles;  // by surface tag
   std::set<int> surfaces_with_other_elements;  // surfaces meshed with quadrangles or worse
   std::vector<PhysicalGroup> groups;           // named physical groups of dimension 1 and 2
+  // The crossed pattern: quadrilaterals gmsh made, and those of them cut in two instead of four
+  // because they were not convex.
+  std::size_t quadrilaterals = 0, quadrilaterals_cut_in_two = 0;
 
   // The named group of dimension `dim`, or nullptr.
   const PhysicalGroup* find(const std::string& name, int dim) const;
@@ -47,11 +50,13 @@ struct GeoMesh {
 void open_geometry(const std::string& geo_path, const std::map<std::string, double>& parameters);
 
 // Opens `geo_path` with the ONELAB numbers "Parameters/NAME" of `parameters` set, overrides its
-// element sizes with `size` when given, and generates a 2D mesh of linear triangles. Throws
+// element sizes with `size` when given, and generates a 2D mesh of linear triangles (`crossed`:
+// quadrilaterals of that size, each cut by its diagonals into four triangles). Throws
 // talus::Error naming the file, with gmsh's own message when gmsh cannot read or mesh it, and
 // for a parameter the .geo does not declare. `named_by` says where the path came from, for the
 // message about a missing file.
 GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& size,
-                      const std::string& named_by = "", const std::map<std::string, double>& parameters = {});
+                      const std::string& named_by = "", const std::map<std::string, double>& parameters = {},
+                      bool crossed = false);
 
 }  // namespace talus::preproc

@@ -302,7 +302,8 @@ Model build_model(const Scene& scene, MeshReport* report) {
   check_size(scene);  // before gmsh meshes: refuse a mesh too large for memory or too coarse for a body
 
   // 1. Mesh.
-  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path, scene.mesh.parameters);
+  const GeoMesh geo = mesh_geometry(scene.geometry, scene.mesh.size, "scene.geometry in " + scene.path,
+                                    scene.mesh.parameters, scene.mesh.pattern == MeshPattern::Crossed);
   const Clock::time_point meshed = Clock::now();
 
   // 2. Background mesh.
@@ -414,6 +415,8 @@ Model build_model(const Scene& scene, MeshReport* report) {
     report->geometry = scene.geometry;
     report->nodes = model.nodes.size();
     report->elements = model.triangles.size();
+    report->quadrilaterals = geo.quadrilaterals;
+    report->quadrilaterals_cut_in_two = geo.quadrilaterals_cut_in_two;
     report->particles = n;
     report->fixed_nodes = model.fixed_nodes.size();
     report->roller_nodes = model.roller_nodes.size();
@@ -440,7 +443,14 @@ void print_report(const MeshReport& report, std::ostream& out) {
   const auto flags = out.flags();
   const auto precision = out.precision();
   out << "mesh " << report.scene << " (" << report.geometry << ")\n";
-  out << "  background mesh: " << report.nodes << " nodes, " << report.elements << " triangles\n";
+  out << "  background mesh: " << report.nodes << " nodes, " << report.elements << " triangles";
+  if (report.quadrilaterals > 0) {
+    out << " (crossed: " << report.quadrilaterals << " quadrilaterals";
+    if (report.quadrilaterals_cut_in_two > 0)
+      out << ", " << report.quadrilaterals_cut_in_two << " of them not convex and cut in two";
+    out << ")";
+  }
+  out << "\n";
   out << "  boundary: " << report.fixed_nodes << " fixed nodes, " << report.roller_nodes << " roller nodes";
   if (report.friction_nodes > 0) out << ", " << report.friction_nodes << " friction nodes";
   out << "\n";

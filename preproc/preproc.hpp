@@ -32,6 +32,8 @@ struct MeshReport {
   std::string geometry;  // the .geo that was meshed
   std::size_t nodes = 0;
   std::size_t elements = 0;
+  std::size_t quadrilaterals = 0;             // mesh.pattern = "crossed": those gmsh made
+  std::size_t quadrilaterals_cut_in_two = 0;  // of them, not convex: two triangles, not four
   std::size_t particles = 0;
   std::size_t fixed_nodes = 0;
   std::size_t roller_nodes = 0;

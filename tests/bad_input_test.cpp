@@ -250,6 +250,8 @@ std::vector<Row> rows() {
        {"run.output_interval", "finite"}},
       {"negative mesh size", [](auto d) { return scene_change(d, "size = 0.25", "size = -0.25"); },
        {"mesh.size", "got -0.25"}},
+      {"unknown mesh pattern", [](auto d) { return scene_change(d, "size = 0.25", "size = 0.25\npattern = \"cross\""); },
+       {"mesh.pattern", "unknown pattern 'cross'", "expected delaunay or crossed"}},
       {"damping of one", [](auto d) { return scene_change(d, "damping = 0.0", "damping = 1.0"); },
        {"run.damping", "[0, 1)"}},
       {"NaN in gravity", [](auto d) { return scene_change(d, "gravity = [0.0, -9.81]", "gravity = [0.0, nan]"); },

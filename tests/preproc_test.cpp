@@ -173,8 +173,8 @@ TEST(PreprocScenes, MeshParameterOutsideItsDeclaredRangeIsRefused) {
 }
 
 TEST(PreprocScenes, MeshSizeOverridesTheGeo) {
-  const Meshed coarse = mesh_scene("slope", {"mesh.size=0.5"});
-  const Meshed fine = mesh_scene("slope", {"mesh.size=0.25"});
+  const Meshed coarse = mesh_scene("slope", {"mesh.size=0.5", "mesh.pattern=delaunay"});
+  const Meshed fine = mesh_scene("slope", {"mesh.size=0.25", "mesh.pattern=delaunay"});
   // Halving the size quarters the element area.
   const double ratio = static_cast<double>(fine.model.triangles.size()) / coarse.model.triangles.size();
   EXPECT_GT(ratio, 3.5);
