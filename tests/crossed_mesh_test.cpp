@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "common/model.hpp"
@@ -41,7 +42,8 @@ Physical Surface("domain") = {1};
 Physical Curve("sides") = {1, 2, 3, 4};
 )";
 
-Model mesh_square(const ScratchDir& dir, MeshPattern pattern, double size, preproc::MeshReport* report) {
+Model mesh_square(const ScratchDir& dir, MeshPattern pattern, std::optional<double> size,
+                  preproc::MeshReport* report) {
   Scene scene;
   scene.name = "square";
   scene.path = dir.file("square.toml");
@@ -177,6 +179,19 @@ TEST(CrossedMesh, AdmitsFlowAtConstantVolumeWhereDelaunayTrianglesLock) {
   // quadrilateral, and one fewer in all (the total volume change is zero with the boundary fixed).
   EXPECT_EQ(on_crossed.free_fields, 2 * interior_corners - quads + 1);
   EXPECT_GT(on_crossed.free_fields, 0);
+}
+
+TEST(CrossedMesh, WithoutMeshSizeTheGeosSizeIsTheQuadrilaterals) {
+  // The square's .geo asks for lc = 0.2: without mesh.size its sizes are doubled for gmsh as
+  // mesh.size would be, so the mesh is the one of mesh.size = 0.2 (a size left undoubled would
+  // give about four times the quadrilaterals).
+  ScratchDir dir("crossed-geo-size");
+  preproc::MeshReport from_geo, from_size;
+  const Model by_geo = mesh_square(dir, MeshPattern::Crossed, std::nullopt, &from_geo);
+  const Model by_size = mesh_square(dir, MeshPattern::Crossed, 0.2, &from_size);
+  ASSERT_GT(from_size.quadrilaterals, 0u);
+  EXPECT_EQ(from_geo.quadrilaterals, from_size.quadrilaterals);
+  EXPECT_EQ(by_geo.triangles.size(), by_size.triangles.size());
 }
 
 }  // namespace
