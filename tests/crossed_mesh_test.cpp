@@ -44,25 +44,9 @@ Physical Curve("sides") = {1, 2, 3, 4};
 
 Model mesh_square(const ScratchDir& dir, MeshPattern pattern, std::optional<double> size,
                   preproc::MeshReport* report) {
-  Scene scene;
-  scene.name = "square";
-  scene.path = dir.file("square.toml");
-  scene.geometry = write_file(dir, "square.geo", kSquareGeo);
-  scene.mesh.size = size;
+  Scene scene = testing::rock_scene("square", dir.file("square.toml"), write_file(dir, "square.geo", kSquareGeo), size,
+                                    {testing::rock_body("block", "domain", 1)});
   scene.mesh.pattern = pattern;
-  Material rock;
-  rock.name = "rock";
-  rock.density = 2000;
-  rock.youngs_modulus = 1e7;
-  rock.poisson_ratio = 0.25;
-  scene.materials = {rock};
-  Body body;
-  body.name = "block";
-  body.group = "domain";
-  body.material = "rock";
-  body.particles_per_cell = 1;
-  scene.bodies = {body};
-  scene.post.body = "block";
   return preproc::build_model(scene, report);
 }
 

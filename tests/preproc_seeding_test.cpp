@@ -22,6 +22,7 @@ namespace talus {
 namespace {
 
 using testing::expect_valid_mesh;
+using testing::rock_body;
 using testing::expect_valid_particles;
 using testing::ScratchDir;
 using testing::twice_signed_area;
@@ -50,36 +51,14 @@ Line(9) = {9, 10}; Line(10) = {10, 11}; Line(11) = {11, 9};
 Physical Curve("wedge") = {9, 10, 11};
 )";
 
-Body make_body(const std::string& name, const std::string& group, int particles_per_cell) {
-  Body body;
-  body.name = name;
-  body.group = group;
-  body.material = "rock";
-  body.particles_per_cell = particles_per_cell;
-  return body;
-}
-
 Scene ring_scene(const std::string& geo, std::vector<Body> bodies, double size = 0.05) {
-  Scene scene;
-  scene.name = "ring";
-  scene.path = "ring.toml";
-  scene.geometry = geo;
-  scene.mesh.size = size;
-  Material rock;
-  rock.name = "rock";
-  rock.density = 2000;
-  rock.youngs_modulus = 1e7;
-  rock.poisson_ratio = 0.25;
-  scene.materials = {rock};
-  scene.bodies = std::move(bodies);
-  scene.post.body = scene.bodies.front().name;
-  return scene;
+  return testing::rock_scene("ring", "ring.toml", geo, size, std::move(bodies));
 }
 
 TEST(PreprocSeeding, BodyWithAHoleHasNoParticlesInTheHole) {
   ScratchDir dir("preproc-hole");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("ring", "ring", 4)});
+  const Scene scene = ring_scene(geo, {rock_body("ring", "ring", 4)});
   preproc::MeshReport report;
   const Model model = preproc::build_model(scene, &report);
   expect_valid_mesh(model);
@@ -94,7 +73,7 @@ TEST(PreprocSeeding, BodyWithAHoleHasNoParticlesInTheHole) {
 TEST(PreprocSeeding, TwoBodiesGetDisjointParticles) {
   ScratchDir dir("preproc-two");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("ring", "ring", 3), make_body("core", "core", 6)});
+  const Scene scene = ring_scene(geo, {rock_body("ring", "ring", 3), rock_body("core", "core", 6)});
   const Model model = preproc::build_model(scene);
   expect_valid_particles(model, scene);
   const auto volume = volume_per_body(model);
@@ -114,7 +93,7 @@ TEST(PreprocSeeding, TwoBodiesGetDisjointParticles) {
 TEST(PreprocSeeding, OverlappingBodiesAreAnError) {
   ScratchDir dir("preproc-overlap");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("all", "domain", 4), make_body("core", "core", 4)});
+  const Scene scene = ring_scene(geo, {rock_body("all", "domain", 4), rock_body("core", "core", 4)});
   try {
     preproc::build_model(scene);
     FAIL() << "overlapping bodies were accepted";
@@ -130,7 +109,7 @@ TEST(PreprocSeeding, EveryPatternFillsEveryTriangleOfTheDomain) {
   ScratchDir dir("preproc-ppc");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
   for (int ppc : preproc::kSupportedParticlesPerCell) {
-    const Scene scene = ring_scene(geo, {make_body("all", "domain", ppc)}, 0.1);
+    const Scene scene = ring_scene(geo, {rock_body("all", "domain", ppc)}, 0.1);
     const Model model = preproc::build_model(scene);
     EXPECT_EQ(model.particle_count(), ppc * model.triangles.size()) << ppc;
     EXPECT_NEAR(volume_per_body(model).at("all"), 1.0, 1e-12) << ppc;
@@ -165,7 +144,7 @@ TEST(PreprocSeeding, PatternsAreInteriorAndCentredOnTheCentroid) {
 TEST(PreprocSeeding, ClosedCurveBodyOffTheMeshIsSeededToWithinTwoPercent) {
   ScratchDir dir("preproc-curve");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("wedge", "wedge", 6)}, 0.02);
+  const Scene scene = ring_scene(geo, {rock_body("wedge", "wedge", 6)}, 0.02);
   preproc::MeshReport report;
   const Model model = preproc::build_model(scene, &report);
   expect_valid_particles(model, scene);
@@ -179,7 +158,7 @@ TEST(PreprocSeeding, ClosedCurveBodyOffTheMeshIsSeededToWithinTwoPercent) {
 TEST(PreprocSeeding, GeostaticStressAndInitialVelocity) {
   ScratchDir dir("preproc-stress");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  Body core = make_body("core", "core", 3);
+  Body core = rock_body("core", "core", 3);
   core.initial_stress = InitialStress{0.5, std::nullopt};
   core.initial_velocity = {1.5, -2};
   Scene scene = ring_scene(geo, {core});
@@ -199,7 +178,7 @@ TEST(PreprocSeeding, GeostaticStressAndInitialVelocity) {
 TEST(PreprocSeeding, MissingGroupErrorListsTheGroupsOfTheGeo) {
   ScratchDir dir("preproc-missing");
   const std::string geo = write_file(dir, "ring.geo", kRingGeo);
-  const Scene scene = ring_scene(geo, {make_body("granite", "granite", 4)});
+  const Scene scene = ring_scene(geo, {rock_body("granite", "granite", 4)});
   try {
     preproc::build_model(scene);
     FAIL() << "a missing group was accepted";
@@ -221,7 +200,7 @@ Point(5) = {0.001, 0.001, 0}; Point(6) = {0.002, 0.001, 0}; Point(7) = {0.002, 0
 Line(5) = {5, 6}; Line(6) = {6, 7}; Line(7) = {7, 5};
 Physical Curve("speck") = {5, 6, 7};
 )");
-  const Scene scene = ring_scene(geo, {make_body("speck", "speck", 1)}, 0.5);
+  const Scene scene = ring_scene(geo, {rock_body("speck", "speck", 1)}, 0.5);
   try {
     preproc::build_model(scene);
     FAIL() << "a body without particles was accepted";

@@ -86,4 +86,31 @@ std::string write_file(const ScratchDir& dir, const std::string& name, const std
   return dir.file(name);
 }
 
+Body rock_body(const std::string& name, const std::string& group, int particles_per_cell) {
+  Body body;
+  body.name = name;
+  body.group = group;
+  body.material = "rock";
+  body.particles_per_cell = particles_per_cell;
+  return body;
+}
+
+Scene rock_scene(const std::string& name, const std::string& path, const std::string& geometry,
+                 std::optional<double> size, std::vector<Body> bodies) {
+  Scene scene;
+  scene.name = name;
+  scene.path = path;
+  scene.geometry = geometry;
+  scene.mesh.size = size;
+  Material rock;
+  rock.name = "rock";
+  rock.density = 2000;
+  rock.youngs_modulus = 1e7;
+  rock.poisson_ratio = 0.25;
+  scene.materials = {rock};
+  scene.bodies = std::move(bodies);
+  scene.post.body = scene.bodies.front().name;
+  return scene;
+}
+
 }  // namespace talus::testing

@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,13 @@ struct Meshed {
 
 // geometries/NAME.toml, loaded with `overrides` and built into a model.
 Meshed mesh_scene(const std::string& name, const std::vector<std::string>& overrides = {});
+
+// A body of material "rock" in the physical group `group`.
+Body rock_body(const std::string& name, const std::string& group, int particles_per_cell);
+// A scene written here, not read from a file: `geometry`, the element size, one linear
+// material "rock" (2000 kg/m^3, E = 10 MPa, nu = 0.25) and `bodies` (post.body: the first).
+Scene rock_scene(const std::string& name, const std::string& path, const std::string& geometry,
+                 std::optional<double> size, std::vector<Body> bodies);
 
 // Writes `text` to dir/name and returns the path.
 std::string write_file(const ScratchDir& dir, const std::string& name, const std::string& text);
