@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 
 #include "bench_support.hpp"
@@ -78,13 +79,25 @@ std::vector<Eigen::Vector2d> last_frame(const std::string& results) {
   return x;
 }
 
+// talus post's runout_distance_m (m) of a finished run in `scratch` (figures off), or nothing.
+std::optional<double> post_runout(const bench::Scratch& scratch) {
+  postproc::PostOptions post;
+  post.figures = false;
+  std::ostringstream log;
+  postproc::run_post(scratch.file("results.h5"), scratch.path().string(), log, post);
+  std::ifstream in(scratch.file("metrics.json"));
+  std::stringstream json;
+  json << in.rdbuf();
+  return bench::json_number(json.str(), "runout_distance_m");
+}
+
 void run_column(const Options& options, std::ostringstream& md) {
   std::vector<std::vector<std::string>> rows;
-  md << "## Column collapse (geometries/column_collapse.toml, 5 mm triangles";
+  md << "## Column collapse (geometries/column_collapse.toml";
   for (const auto& o : options.overrides) md << ", " << o;
   md << ")\n\n"
      << "| transfer | a | L0 (m) | particles | steps | wall (s) | (L_inf - L0)/L0 | Lube | error | H_inf / H0 | "
-        "detached | outcome |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        "detached | talus post | error | outcome |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const auto& name : options.transfers) {
     const TransferChoice t = transfer_choice(name);
     for (double a : options.aspect) {
@@ -95,7 +108,7 @@ void run_column(const Options& options, std::ostringstream& md) {
       overrides.push_back("mesh.parameters.L0=" + general(L0, 6));
       std::fprintf(stderr, "column %s a = %g ...", name.c_str(), a);
       bench::Scratch scratch("column");
-      std::string outcome = "at rest", ratio = "", error = "", height = "", detached = "";
+      std::string outcome = "at rest", ratio = "", error = "", height = "", detached = "", post = "", post_error = "";
       bench::TimedRun run;
       try {
         run = bench::run_scene(bench::scene_path("column_collapse"), overrides, scratch.path().string(),
@@ -107,6 +120,10 @@ void run_column(const Options& options, std::ostringstream& md) {
         if (const auto law = testing::lube_runout(a)) error = fixed(100 * (r / *law - 1), 1) + "%";
         height = fixed(deposit.height / H0, 3);
         detached = std::to_string(deposit.detached);
+        if (const auto runout = post_runout(scratch)) {  // from the released face's foot, x = L0
+          post = fixed(*runout / L0, 3);
+          if (const auto law = testing::lube_runout(a)) post_error = fixed(100 * (*runout / L0 / *law - 1), 1) + "%";
+        }
       } catch (const Error& e) {
         outcome = e.what();
       }
@@ -114,20 +131,23 @@ void run_column(const Options& options, std::ostringstream& md) {
       std::fprintf(stderr, " %s %s\n", ratio.c_str(), outcome.c_str());
       rows.push_back({name, general(a, 4), general(L0, 4), std::to_string(run.summary.particles),
                       std::to_string(run.summary.steps), fixed(run.wall_seconds, 1), ratio,
-                      law ? fixed(*law, 3) : "", error, height, detached, outcome});
+                      law ? fixed(*law, 3) : "", error, height, detached, post, post_error, outcome});
       md << "| " << rows.back()[0];
       for (std::size_t k = 1; k < rows.back().size(); ++k) md << " | " << rows.back()[k];
       md << " |\n";
     }
   }
   std::ofstream csv((std::filesystem::path(options.out) / "runout_column.csv").string());
-  csv << "transfer,aspect_ratio,L0_m,particles,steps,wall_s,runout_ratio,lube,error,height_ratio,detached,outcome\n";
+  csv << "transfer,aspect_ratio,L0_m,particles,steps,wall_s,runout_ratio,lube,error,height_ratio,detached,"
+         "post_runout_ratio,post_error,outcome\n";
   for (const auto& row : rows) {
     for (std::size_t k = 0; k < row.size(); ++k) csv << (k ? "," : "") << (k + 1 == row.size() ? "\"" + row[k] + "\"" : row[k]);
     csv << "\n";
   }
   md << "\nL_inf: the deposit's tip, bins 5 mm wide from the wall out to the first empty one (particles "
-        "beyond are 'detached'). H_inf: the deposit's highest particle over H0 = a L0.\n\n";
+        "beyond are 'detached'). H_inf: the deposit's highest particle over H0 = a L0. talus post: "
+        "runout_distance_m / L0 of metrics.json, whose tip leaves out a front thinner than its rule "
+        "(docs/postproc.md).\n\n";
 }
 
 void run_slope(const Options& options, std::ostringstream& md) {
@@ -147,14 +167,7 @@ void run_slope(const Options& options, std::ostringstream& md) {
       bench::TimedRun run;
       try {
         run = bench::run_scene(bench::scene_path("slope"), overrides, scratch.path().string(), options.threads);
-        postproc::PostOptions post;
-        post.figures = false;
-        std::ostringstream log;
-        postproc::run_post(scratch.file("results.h5"), scratch.path().string(), log, post);
-        std::ifstream in(scratch.file("metrics.json"));
-        std::stringstream json;
-        json << in.rdbuf();
-        if (const auto r = bench::json_number(json.str(), "runout_distance_m")) runout = fixed(*r, 2);
+        if (const auto r = post_runout(scratch)) runout = fixed(*r, 2);
       } catch (const Error& e) {
         runout = std::string("failed: ") + e.what();
       }
