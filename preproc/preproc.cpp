@@ -432,6 +432,14 @@ Model build_model(const Scene& scene, MeshReport* report) {
         if (model.load[p] == static_cast<int32_t>(L)) ++load.particles, load.length += model.load_length[p];
       report->loads.push_back(load);
     }
+    if (scene.mesh.pattern == MeshPattern::Delaunay && !scene.run.evs)
+      for (const Body& body : scene.bodies) {
+        const int m = scene.material_index(body.material);
+        if (!body.fixed && m >= 0 && scene.materials[m].model == MaterialModel::MohrCoulomb) {
+          report->locking_material = body.material;
+          break;
+        }
+      }
     report->gmsh_seconds = seconds_between(start, meshed);
     report->seeding_seconds = seconds_between(meshed, done);
     report->seconds = seconds_between(start, done);
@@ -467,6 +475,11 @@ void print_report(const MeshReport& report, std::ostream& out) {
     out << "  load " << load.name << ": carried by " << load.particles << " particles along " << std::setprecision(6)
         << load.length << " m\n";
   out << "  particles: " << report.particles << "\n";
+  if (!report.locking_material.empty())
+    out << "  note: Mohr-Coulomb material '" << report.locking_material
+        << "' on Delaunay triangles with EVS off: they lock in plastic flow at\n"
+           "        constant volume, which stiffens the failure and shortens the runout. For a runout,\n"
+           "        set [mesh] pattern = \"crossed\" (docs/slope.md, \"Crossed triangles\").\n";
   out << std::fixed << std::setprecision(3) << "  time: gmsh " << report.gmsh_seconds << " s, seeding "
       << report.seeding_seconds << " s, total " << report.seconds << " s\n";
   out.flags(flags);

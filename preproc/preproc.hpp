@@ -40,6 +40,10 @@ struct MeshReport {
   std::size_t friction_nodes = 0;
   std::vector<BodyReport> bodies;
   std::vector<LoadReport> loads;
+  // A Mohr-Coulomb material of a moving body on Delaunay triangles with EVS off: linear
+  // triangles lock in plastic flow at constant volume (docs/slope.md, "Crossed triangles"), so
+  // the report says how to avoid it. Empty: none.
+  std::string locking_material;
   double gmsh_seconds = 0;     // reading the .geo and meshing
   double seeding_seconds = 0;  // everything after gmsh: topology, seeding, boundary conditions
   double seconds = 0;          // total

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 #include "common/model.hpp"
@@ -176,6 +177,32 @@ TEST(CrossedMesh, WithoutMeshSizeTheGeosSizeIsTheQuadrilaterals) {
   ASSERT_GT(from_size.quadrilaterals, 0u);
   EXPECT_EQ(from_geo.quadrilaterals, from_size.quadrilaterals);
   EXPECT_EQ(by_geo.triangles.size(), by_size.triangles.size());
+}
+
+// The mesh report's note: a moving Mohr-Coulomb body on Delaunay triangles without EVS locks
+// (the count above), so `talus mesh` says how to avoid it; crossed triangles, EVS, an elastic
+// material or a fixed body need no note.
+TEST(CrossedMesh, ReportNotesAPlasticBodyOnLockingDelaunayTriangles) {
+  ScratchDir dir("crossed-locking-note");
+  auto note_for = [&](MeshPattern pattern, bool evs, MaterialModel model, bool fixed) {
+    Scene scene = testing::rock_scene("square", dir.file("square.toml"), write_file(dir, "square.geo", kSquareGeo),
+                                      0.25, {testing::rock_body("block", "domain", 1)});
+    scene.mesh.pattern = pattern;
+    scene.run.evs = evs;
+    scene.materials[0].model = model;
+    scene.bodies[0].fixed = fixed;
+    preproc::MeshReport report;
+    preproc::build_model(scene, &report);
+    std::ostringstream printed;
+    preproc::print_report(report, printed);
+    EXPECT_EQ(report.locking_material.empty(), printed.str().find("note:") == std::string::npos) << printed.str();
+    return report.locking_material;
+  };
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::MohrCoulomb, false), "rock");
+  EXPECT_EQ(note_for(MeshPattern::Crossed, false, MaterialModel::MohrCoulomb, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, true, MaterialModel::MohrCoulomb, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::LinearElastic, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::MohrCoulomb, true), "");
 }
 
 }  // namespace
