@@ -36,6 +36,8 @@ def read_column_csv(path):
     for row in rows:
         row["aspect_ratio"] = float(row["aspect_ratio"])
         row["runout_ratio"] = float(row["runout_ratio"]) if row["runout_ratio"] else ""
+        post = row.get("post_runout_ratio") or ""  # absent in files written before it
+        row["post_runout_ratio"] = float(post) if post else ""
     return rows
 
 
@@ -128,11 +130,16 @@ def plot_column(rows, path):
     high = [2.8 + a / 10 for a in range(0, 53)]
     ax.plot(low, [1.2 * a for a in low], "k-", lw=1.2, label="Lube et al. 2005: 1.2 a (a < 1.8)")
     ax.plot(high, [1.9 * a ** (2 / 3) for a in high], "k--", lw=1.2, label="1.9 a^(2/3) (a > 2.8)")
-    for name in sorted({r["transfer"] for r in rows}):
+    for k, name in enumerate(sorted({r["transfer"] for r in rows})):
+        colour = "C%d" % k
         mine = [r for r in rows if r["transfer"] == name and r["runout_ratio"] != ""]
         if mine:
             ax.plot([r["aspect_ratio"] for r in mine], [r["runout_ratio"] for r in mine], "o-", ms=5, lw=0.8,
-                    label=name)
+                    color=colour, label=name + " (deposit tip)")
+        post = [r for r in rows if r["transfer"] == name and r["post_runout_ratio"] != ""]
+        if post:
+            ax.plot([r["aspect_ratio"] for r in post], [r["post_runout_ratio"] for r in post], "s--", ms=5, lw=0.8,
+                    color=colour, markerfacecolor="none", label=name + " (talus post)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("aspect ratio a = H0 / L0")
