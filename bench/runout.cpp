@@ -120,9 +120,13 @@ void run_column(const Options& options, std::ostringstream& md) {
         if (const auto law = testing::lube_runout(a)) error = fixed(100 * (r / *law - 1), 1) + "%";
         height = fixed(deposit.height / H0, 3);
         detached = std::to_string(deposit.detached);
-        if (const auto runout = post_runout(scratch)) {  // from the released face's foot, x = L0
-          post = fixed(*runout / L0, 3);
-          if (const auto law = testing::lube_runout(a)) post_error = fixed(100 * (*runout / L0 / *law - 1), 1) + "%";
+        try {  // from the released face's foot, x = L0; a failed post leaves the run's own outcome
+          if (const auto runout = post_runout(scratch)) {
+            post = fixed(*runout / L0, 3);
+            if (const auto law = testing::lube_runout(a)) post_error = fixed(100 * (*runout / L0 / *law - 1), 1) + "%";
+          }
+        } catch (const Error& e) {
+          post = std::string("failed: ") + e.what();
         }
       } catch (const Error& e) {
         outcome = e.what();
