@@ -43,10 +43,15 @@ Physical Surface("domain") = {1};
 Physical Curve("sides") = {1, 2, 3, 4};
 )";
 
+// The unit square filled by one elastic body, one particle per cell.
+Scene square_scene(const ScratchDir& dir, std::optional<double> size) {
+  return testing::rock_scene("square", dir.file("square.toml"), write_file(dir, "square.geo", kSquareGeo), size,
+                             {testing::rock_body("block", "domain", 1)});
+}
+
 Model mesh_square(const ScratchDir& dir, MeshPattern pattern, std::optional<double> size,
                   preproc::MeshReport* report) {
-  Scene scene = testing::rock_scene("square", dir.file("square.toml"), write_file(dir, "square.geo", kSquareGeo), size,
-                                    {testing::rock_body("block", "domain", 1)});
+  Scene scene = square_scene(dir, size);
   scene.mesh.pattern = pattern;
   return preproc::build_model(scene, report);
 }
@@ -185,8 +190,7 @@ TEST(CrossedMesh, WithoutMeshSizeTheGeosSizeIsTheQuadrilaterals) {
 TEST(CrossedMesh, ReportNotesAPlasticBodyOnLockingDelaunayTriangles) {
   ScratchDir dir("crossed-locking-note");
   auto note_for = [&](MeshPattern pattern, bool evs, MaterialModel model, bool fixed) {
-    Scene scene = testing::rock_scene("square", dir.file("square.toml"), write_file(dir, "square.geo", kSquareGeo),
-                                      0.25, {testing::rock_body("block", "domain", 1)});
+    Scene scene = square_scene(dir, 0.25);
     scene.mesh.pattern = pattern;
     scene.run.evs = evs;
     scene.materials[0].model = model;
