@@ -1,12 +1,15 @@
 // The thread contract: a simulation is built for a number of threads (its per-thread buffers
 // are sized for them), and every parallel region of the solver asks for exactly that many
 // with num_threads(threads), whatever OMP_NUM_THREADS or omp_set_num_threads say. Work is split
-// with static schedules and every floating-point sum is taken in an order fixed by the thread
+// with static schedules (OwnerFirstChunks, below, where the iterations are independent and
+// unequal in cost) and every floating-point sum is taken in an order fixed by the thread
 // count, so the same thread count gives bit-identical results run after run.
 #pragma once
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,6 +71,51 @@ inline void chunk_of(long n, int threads, int t, long& begin, long& end) {
   begin = n * t / threads;
   end = n * (t + 1) / threads;
 }
+
+// A split of [0, n) for loops whose iterations are independent but unequal in cost (the stress
+// update: a plastic particle costs several times an elastic one, and plastic particles cluster).
+// Each thread first takes chunks from the front of its own static share (chunk_of, the share
+// every static loop over the particles gives it, so the particles' data is already in its
+// core's caches), then takes what is left of the other threads' shares, a chunk at a time.
+// Each iteration runs exactly once. (schedule(dynamic) balanced the work too, but handed about
+// half the particles to the core whose caches did not hold them, and the next phase paid for
+// moving their cache lines back: docs/benchmarks.md, "Owner-first chunks".)
+// Use: construct before the parallel region, call for_each(body) inside it on every thread.
+class OwnerFirstChunks {
+ public:
+  OwnerFirstChunks(long n, int threads, long chunk = 256)
+      : n_(n), threads_(std::max(1, threads)), chunk_(std::max(1L, chunk)), next_(new Counter[threads_]) {
+    for (int t = 0; t < threads_; ++t) {
+      long begin, end;
+      chunk_of(n_, threads_, t, begin, end);
+      next_[t].value.store(begin, std::memory_order_relaxed);
+    }
+  }
+  // body(begin, end) for the chunks this thread claims; thread t of a team of any size.
+  template <class Body>
+  void for_each(Body body) {
+    const int me = omp_get_thread_num();
+    for (int k = 0; k < threads_; ++k) {
+      const int t = (me + k) % threads_;
+      long begin, end;
+      chunk_of(n_, threads_, t, begin, end);
+      for (;;) {
+        const long first = next_[t].value.fetch_add(chunk_, std::memory_order_relaxed);
+        if (first >= end) break;
+        body(first, std::min(first + chunk_, end));
+      }
+    }
+  }
+
+ private:
+  struct alignas(64) Counter {
+    std::atomic<long> value{0};
+  };
+  long n_;
+  int threads_;
+  long chunk_;
+  std::unique_ptr<Counter[]> next_;
+};
 
 // The sum of term(i) over [0, n): each thread adds its contiguous chunk in index order, and the
 // chunks are added in thread order, so the result depends on n and `threads` only. T is any

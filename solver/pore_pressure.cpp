@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/parallel.hpp"
 #include "solver/step.hpp"
 
 namespace talus::solver {
@@ -83,6 +84,7 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
   // through the stack and stall the store forwarding of its 16-byte loads.
   const Vec4 normal(1, 1, 1, 0);
   long bad = -1;
+  OwnerFirstChunks chunks(moving, threads);
 #pragma omp parallel num_threads(threads) reduction(max : bad)
   {
     // The arrays, read once (StressArrays, step.hpp).
@@ -94,31 +96,32 @@ long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, co
     double* const pore_pressure = P.pore_pressure.data();
     double* const excess = undrained ? P.excess_pore_pressure.data() : nullptr;
     StrainIncrement increment(cells, P);
-#pragma omp for schedule(dynamic, 1024)
-    for (long p = 0; p < moving; ++p) {
-      Vec4& sigma = a.sigma[p];  // total; effective in between (in place: a copy measured slower)
-      double u;
-      if (increment.isolated(p)) {
-        sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
-        u = table.pore_pressure(a.x[p]);
-      } else {
-        const MaterialState& material = materials[material_of_body[a.body[p]]];
-        const Vec4 dp = increment(p, d[p]);
-        sigma += pore_pressure[p] * normal;
-        update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
-        // The new pore pressure after the material's call, so that less lives across it.
-        const double volumetric = dp[0] + dp[1] + dp[2];
-        u = table.pore_pressure(a.x[p]);
-        if (undrained) {
-          excess[p] -= material.pore_stiffness * volumetric;
-          u += excess[p];
+    chunks.for_each([&](long begin, long end) {  // own share first (parallel.hpp)
+      for (long p = begin; p < end; ++p) {
+        Vec4& sigma = a.sigma[p];  // total; effective in between (in place: a copy measured slower)
+        double u;
+        if (increment.isolated(p)) {
+          sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
+          u = table.pore_pressure(a.x[p]);
+        } else {
+          const MaterialState& material = materials[material_of_body[a.body[p]]];
+          const Vec4 dp = increment(p, d[p]);
+          sigma += pore_pressure[p] * normal;
+          update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
+          // The new pore pressure after the material's call, so that less lives across it.
+          const double volumetric = dp[0] + dp[1] + dp[2];
+          u = table.pore_pressure(a.x[p]);
+          if (undrained) {
+            excess[p] -= material.pore_stiffness * volumetric;
+            u += excess[p];
+          }
+          sigma -= u * normal;
+          a.volume[p] = grown_volume(a.volume[p], volumetric, initial_volume, a.id[p]);
         }
-        sigma -= u * normal;
-        a.volume[p] = grown_volume(a.volume[p], volumetric, initial_volume, a.id[p]);
+        pore_pressure[p] = u;
+        if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum() + u) || !(a.volume[p] > 0)) bad = std::max(bad, p);
       }
-      pore_pressure[p] = u;
-      if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum() + u) || !(a.volume[p] > 0)) bad = std::max(bad, p);
-    }
+    });
   }
   return bad;
 }

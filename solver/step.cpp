@@ -1,6 +1,7 @@
 #include "solver/step.hpp"
 
 #include "solver/domain.hpp"
+#include "solver/parallel.hpp"
 #include "solver/pore_pressure.hpp"
 
 #include <omp.h>
@@ -541,6 +542,7 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSum
                      const std::vector<double>& initial_volume, int threads) {
   const long moving = static_cast<long>(P.moving_count);
   long bad = -1;
+  OwnerFirstChunks chunks(moving, threads);
 #pragma omp parallel num_threads(threads) reduction(max : bad)
   {
     const StressArrays a(P);
@@ -549,21 +551,22 @@ long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSum
     const int32_t* const material_index = material_of_body.data();
     const double* const cap = initial_volume.data();
     StrainIncrement increment(cells, P);
-    // Dynamic chunks: plastic particles, which cost more, cluster in the sliding mass, so equal
-    // shares of particles are unequal shares of work.
-#pragma omp for schedule(dynamic, 1024)
-    for (long p = 0; p < moving; ++p) {
-      Vec4& sigma = a.sigma[p];
-      if (increment.isolated(p)) {
-        sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
-      } else {
-        const MaterialState& material = material_of[material_index[a.body[p]]];
-        const Vec4 dp = increment(p, d[p]);
-        update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
-        a.volume[p] = grown_volume(a.volume[p], dp[0] + dp[1] + dp[2], cap, a.id[p]);
+    // Plastic particles, which cost more, cluster in the sliding mass, so equal shares of
+    // particles are unequal shares of work: each thread does its own share, then helps.
+    chunks.for_each([&](long begin, long end) {
+      for (long p = begin; p < end; ++p) {
+        Vec4& sigma = a.sigma[p];
+        if (increment.isolated(p)) {
+          sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
+        } else {
+          const MaterialState& material = material_of[material_index[a.body[p]]];
+          const Vec4 dp = increment(p, d[p]);
+          update_stress(material, sigma, dp, a.eps_p[p], a.history_of(p));
+          a.volume[p] = grown_volume(a.volume[p], dp[0] + dp[1] + dp[2], cap, a.id[p]);
+        }
+        if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum()) || !(a.volume[p] > 0)) bad = std::max(bad, p);
       }
-      if (!std::isfinite(sigma.sum() + a.x[p].sum() + a.v[p].sum()) || !(a.volume[p] > 0)) bad = std::max(bad, p);
-    }
+    });
   }
   return bad;
 }
