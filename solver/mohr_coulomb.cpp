@@ -201,21 +201,8 @@ MohrCoulombParams MohrCoulombParams::unchecked(double youngs_modulus, double poi
   return p;
 }
 
-double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& sigma,
-                           const Eigen::Vector4d& d_eps) {
-  elastic_update(p.shear_modulus, p.bulk_modulus, sigma, d_eps);
+double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma) {
   const bool cut_off = p.tensile_strength >= 0.0;
-
-  // Most particles stay well inside the surface. f grows with Mohr's radius R (the largest
-  // principal stress rises, the smallest falls), so f at an upper bound of R that needs no square
-  // root, |sigma_xx - sigma_yy| / 2 + |sigma_xy| (raised by 1e-15, more than the rounding of R
-  // can add), settles them: f(R) <= f(bound) <= 0 in floating point too, the same decision.
-  {
-    const double centre = 0.5 * (sigma[0] + sigma[1]);
-    const double bound = (std::abs(0.5 * (sigma[0] - sigma[1])) + std::abs(sigma[3])) * (1.0 + 1e-15);
-    const double upper = std::max(centre + bound, sigma[2]), lower = std::min(centre - bound, sigma[2]);
-    if (yield_from_extremes(p, upper, lower) <= 0.0 && (!cut_off || upper <= p.tensile_strength)) return 0.0;
-  }
 
   // zz is the third principal stress beside the in-plane pair.
   const InPlane circle(sigma);

@@ -35,6 +35,9 @@
 #pragma once
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
+
 namespace talus {
 
 struct MohrCoulombParams {   // built once from the material by from(), never in the hot loop
@@ -74,11 +77,28 @@ inline void elastic_update(double shear_modulus, double bulk_modulus, Eigen::Vec
   sigma[3] += two_g * d_eps[3];
 }
 
+// The return mapping of an elastic trial stress that may lie outside the surface (or past the
+// cut-off); d_gamma_p as defined above. mohr_coulomb_update's second half (mohr_coulomb.cpp).
+double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma);
+
 // Elastic trial then return mapping onto the Mohr-Coulomb surface (and the tension cut-off).
 // Returns d_gamma_p as defined above (0 for an elastic step, and then sigma is exactly the
-// elastic trial). No heap, no virtual calls.
-double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& sigma,
-                           const Eigen::Vector4d& d_eps);
+// elastic trial). No heap, no virtual calls. Inline up to the test that settles most particles
+// (they stay well inside the surface), so that their stress stays in registers.
+inline double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& sigma,
+                                  const Eigen::Vector4d& d_eps) {
+  elastic_update(p.shear_modulus, p.bulk_modulus, sigma, d_eps);
+  // f grows with Mohr's radius R (the largest principal stress rises, the smallest falls), so f
+  // at an upper bound of R that needs no square root, |sigma_xx - sigma_yy| / 2 + |sigma_xy|
+  // (raised by 1e-15, more than the rounding of R can add), settles them: f(R) <= f(bound) <= 0
+  // in floating point too, the same decision.
+  const double centre = 0.5 * (sigma[0] + sigma[1]);
+  const double bound = (std::abs(0.5 * (sigma[0] - sigma[1])) + std::abs(sigma[3])) * (1.0 + 1e-15);
+  const double upper = std::max(centre + bound, sigma[2]), lower = std::min(centre - bound, sigma[2]);
+  const bool inside = (1.0 + p.sin_phi) * upper - (1.0 - p.sin_phi) * lower - p.two_c_cos_phi <= 0.0;
+  if (inside && (p.tensile_strength < 0.0 || upper <= p.tensile_strength)) return 0.0;
+  return mohr_coulomb_return(p, sigma);
+}
 
 // f of a stress (Pa; > 0 outside the surface), for diagnostics and tests.
 double mohr_coulomb_yield(const MohrCoulombParams& p, const Eigen::Vector4d& sigma);
