@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
 
 #include "solver/parallel.hpp"
 #include "solver/step.hpp"
@@ -105,6 +107,28 @@ TEST(ThreadContract, BuiltForEightThreadsRunsOnAnyMachine) {
   EXPECT_LT(largest_position_difference(one, eight), 1e-12);
   EXPECT_GT(largest_position_difference(one, Simulation(make_simulation(model, 1))), 1e-4)
       << "the block did not move: the comparison above would prove nothing";
+}
+
+// The stress update's split (OwnerFirstChunks): every particle exactly once, whether the team
+// has the threads it was built for, fewer (OMP_THREAD_LIMIT), or the particles are fewer than a
+// chunk or than the threads.
+TEST(ThreadContract, OwnerFirstChunksVisitEveryIndexOnce) {
+  for (const long n : {0L, 1L, 3L, 255L, 256L, 257L, 10007L}) {
+    for (const int threads : {1, 2, 3, 8}) {
+      for (const int team : {1, threads}) {
+        std::vector<std::atomic<int>> visits(static_cast<std::size_t>(n));
+        for (auto& v : visits) v.store(0);
+        OwnerFirstChunks chunks(n, threads, 256);
+#pragma omp parallel num_threads(team)
+        chunks.for_each([&](long begin, long end) {
+          for (long i = begin; i < end; ++i) visits[static_cast<std::size_t>(i)].fetch_add(1);
+        });
+        long wrong = 0;
+        for (const auto& v : visits) wrong += v.load() != 1;
+        EXPECT_EQ(wrong, 0) << n << " indices, built for " << threads << " threads, team of " << team;
+      }
+    }
+  }
 }
 
 TEST(Determinism, SameThreadCountGivesBitIdenticalRuns) {
