@@ -31,11 +31,6 @@ struct InPlane {
         radius(std::sqrt(half_difference * half_difference + sigma[3] * sigma[3])) {}
 };
 
-// f from the largest and smallest principal stresses (the middle one does not enter).
-inline double yield_from_extremes(const MohrCoulombParams& p, double s_max, double s_min) {
-  return (1.0 + p.sin_phi) * s_max - (1.0 - p.sin_phi) * s_min - p.two_c_cos_phi;
-}
-
 // s -= D e for principal vectors.
 inline void subtract_elastic(const MohrCoulombParams& p, const double e[3], double s[3]) {
   const double lambda_trace = p.lame_lambda * (e[0] + e[1] + e[2]);

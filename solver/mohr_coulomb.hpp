@@ -77,6 +77,11 @@ inline void elastic_update(double shear_modulus, double bulk_modulus, Eigen::Vec
   sigma[3] += two_g * d_eps[3];
 }
 
+// f from the largest and smallest principal stresses (the middle one does not enter).
+inline double yield_from_extremes(const MohrCoulombParams& p, double s_max, double s_min) {
+  return (1.0 + p.sin_phi) * s_max - (1.0 - p.sin_phi) * s_min - p.two_c_cos_phi;
+}
+
 // The return mapping of an elastic trial stress that may lie outside the surface (or past the
 // cut-off); d_gamma_p as defined above. mohr_coulomb_update's second half (mohr_coulomb.cpp).
 double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma);
@@ -95,8 +100,8 @@ inline double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& s
   const double centre = 0.5 * (sigma[0] + sigma[1]);
   const double bound = (std::abs(0.5 * (sigma[0] - sigma[1])) + std::abs(sigma[3])) * (1.0 + 1e-15);
   const double upper = std::max(centre + bound, sigma[2]), lower = std::min(centre - bound, sigma[2]);
-  const bool inside = (1.0 + p.sin_phi) * upper - (1.0 - p.sin_phi) * lower - p.two_c_cos_phi <= 0.0;
-  if (inside && (p.tensile_strength < 0.0 || upper <= p.tensile_strength)) return 0.0;
+  if (yield_from_extremes(p, upper, lower) <= 0.0 && (p.tensile_strength < 0.0 || upper <= p.tensile_strength))
+    return 0.0;
   return mohr_coulomb_return(p, sigma);
 }
 
