@@ -37,33 +37,39 @@ void sum_cells(const Mesh& mesh, const Particles& P, bool evs_on, const std::vec
     // (deterministic); the counts, integers, atomically.
     double* const strain = evs_on ? evs.element_strain[omp_get_thread_num()].data() : nullptr;
     double* const volume = evs_on ? evs.element_volume[omp_get_thread_num()].data() : nullptr;
+    // What the sweeps read, taken once in the region (StencilView).
+    int32_t* const count = element_count.data();
+    const int32_t* const element = P.element.data();
+    const double* const particle_volume = P.volume.data();
+    const Vec4* const increment = d_eps.data();
+    const bool with_strain = evs_on;
     int32_t run_element = -1, run_count = 0;
     double run_strain = 0, run_volume = 0;
     const auto flush = [&](bool sums) {
       if (run_element < 0) return;
-      std::atomic_ref<int32_t>(element_count[run_element]).fetch_add(run_count, std::memory_order_relaxed);
+      std::atomic_ref<int32_t>(count[run_element]).fetch_add(run_count, std::memory_order_relaxed);
       if (sums) strain[run_element] += run_strain, volume[run_element] += run_volume;
     };
 #pragma omp for schedule(static) nowait
     for (long p = 0; p < moving; ++p) {
-      const int32_t e = P.element[p];
+      const int32_t e = element[p];
       if (e != run_element) {
-        flush(evs_on);
+        flush(with_strain);
         run_element = e, run_count = 0, run_strain = 0, run_volume = 0;
       }
       ++run_count;
-      if (evs_on) {
-        const double V = P.volume[p];
-        run_strain += V * (d_eps[p][0] + d_eps[p][1]);
+      if (with_strain) {
+        const double V = particle_volume[p];
+        run_strain += V * (increment[p][0] + increment[p][1]);
         run_volume += V;
       }
     }
-    flush(evs_on);
+    flush(with_strain);
     // The fixed bodies' particles (after the moving ones) count, but carry no strain.
     run_element = -1, run_count = 0;
 #pragma omp for schedule(static) nowait
     for (long p = moving; p < n; ++p) {
-      const int32_t e = P.element[p];
+      const int32_t e = element[p];
       if (e != run_element) {
         flush(false);
         run_element = e, run_count = 0;

@@ -32,12 +32,32 @@ struct Mesh {
   std::size_t element_count() const { return triangles.size(); }
 
   Vec3 weights(int32_t e, const Vec2& x) const {
-    const Vec3& c = constant[e];
-    const Vec2* g = gradients->data() + static_cast<std::size_t>(e) * 3;
+    return barycentric(constant[e], gradients->data() + static_cast<std::size_t>(e) * 3, x);
+  }
+  Vec2 gradient(int32_t e, int k) const { return (*gradients)[static_cast<std::size_t>(e) * 3 + k]; }
+  // The N_k(x) of an element from its constants and its three gradients.
+  static Vec3 barycentric(const Vec3& c, const Vec2* g, const Vec2& x) {
     return {c[0] + g[0].x() * x.x() + g[0].y() * x.y(), c[1] + g[1].x() * x.x() + g[1].y() * x.y(),
             c[2] + g[2].x() * x.x() + g[2].y() * x.y()};
   }
-  Vec2 gradient(int32_t e, int k) const { return (*gradients)[static_cast<std::size_t>(e) * 3 + k]; }
+};
+
+// The tables of a Mesh that locate() reads, their data pointers taken once: a loop that calls
+// locate() for every particle and stores what it finds (the relocation) would otherwise reload
+// them through the containers after each store.
+struct MeshView {
+  explicit MeshView(const Mesh& mesh)
+      : constant(mesh.constant.data()), gradients(mesh.gradients->data()), neighbours(mesh.neighbours.data()),
+        elements(mesh.element_count()) {}
+  Vec3 weights(int32_t e, const Vec2& x) const {
+    return Mesh::barycentric(constant[e], gradients + static_cast<std::size_t>(e) * 3, x);
+  }
+  std::size_t element_count() const { return elements; }
+
+  const Vec3* constant;
+  const Vec2* gradients;
+  const std::array<int32_t, 3>* neighbours;
+  std::size_t elements;
 };
 
 Mesh build_mesh(const Model& model);
@@ -46,7 +66,9 @@ Mesh build_mesh(const Model& model);
 // weight. Returns the containing element, or -1 when the walk leaves the domain; `weights`
 // (when given) receives x's barycentric weights in the element returned. Inline: the
 // relocation calls it for every particle every step.
-inline int32_t locate(const Mesh& mesh, int32_t start, const Vec2& x, Vec3* weights = nullptr) {
+// `mesh`: a Mesh or a MeshView.
+template <class MeshTables>
+inline int32_t locate(const MeshTables& mesh, int32_t start, const Vec2& x, Vec3* weights = nullptr) {
   // Barycentric weights slightly below zero still count as inside, so a particle on an edge
   // does not bounce between its two elements.
   constexpr double kTolerance = -1e-12;

@@ -54,6 +54,7 @@ struct Stencil {
   const double* weights(std::size_t p) const { return N.data() + p * static_cast<std::size_t>(width); }
   const int32_t* nodes(std::size_t p) const { return row_node.data() + offset(p); }
   const Vec2* gradients(std::size_t p) const { return dN_ + offset(p); }
+  const Vec2* gradient_table() const { return dN_; }
 
  private:
   const Vec2* dN_ = nullptr;  // row_dN->data()
@@ -73,6 +74,32 @@ void with_width(const Stencil& stencil, Body&& body) {
   }
 }
 
+// The stencil as a phase's loop reads it: its data pointers taken once, and its width W as
+// with_width gives it. Read through the containers (or, inside a parallel region, through the
+// region's shared variables), the compiler reloads every pointer after each store the loop
+// makes that it cannot tell apart from them (a bool of the loop's own counts as any object).
+template <class Width>
+class StencilView {
+ public:
+  StencilView(const Stencil& stencil, Width width)
+      : width_(width), N_(stencil.N.data()), row_(stencil.row.data()), row_node_(stencil.row_node.data()),
+        dN_(stencil.gradient_table()) {}
+  int32_t row(std::size_t p) const { return row_[p]; }
+  const double* weights(std::size_t p) const { return N_ + p * static_cast<std::size_t>(width_); }
+  const int32_t* nodes(std::size_t p) const { return row_node_ + offset(p); }
+  const Vec2* gradients(std::size_t p) const { return dN_ + offset(p); }
+
+ private:
+  std::size_t offset(std::size_t p) const {
+    return static_cast<std::size_t>(row_[p]) * static_cast<std::size_t>(width_);
+  }
+  Width width_;
+  const double* N_;
+  const int32_t* row_;
+  const int32_t* row_node_;
+  const Vec2* dN_;
+};
+
 // Sizes the stencil for `particles` particles of the family on `mesh` (and fills the shared
 // gradient table where the family has one).
 void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles);
@@ -81,13 +108,28 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
                      Stencil& stencil, int threads = 1);
 
-// Fills particle p's entries: the relocation loop calls it for each particle it has just
-// located in `element`, with the element's barycentric weights at the particle (locate's).
+// Fills particle p's entries (StencilRows::fill): the relocation loop calls it for each particle
+// it has just located in `element`, with the element's barycentric weights at the particle
+// (locate's). StencilRows holds the stencil's data pointers, taken once (StencilView), for a
+// loop that fills a row for every particle; a null stencil fills nothing.
+class StencilRows {
+ public:
+  explicit StencilRows(Stencil* stencil)
+      : N_(stencil ? stencil->N.data() : nullptr), row_(stencil ? stencil->row.data() : nullptr) {}
+  void fill(const Vec3& weights, int32_t element, std::size_t p) const {
+    // LinearTriangle is the only family so far; a second one switches on the family here.
+    double* N = N_ + p * 3;
+    for (int k = 0; k < 3; ++k) N[k] = weights[k];
+    row_[p] = element;  // the element's row of the tables reset_stencil built
+  }
+
+ private:
+  double* N_;
+  int32_t* row_;
+};
+
 inline void compute_stencil_row(const Vec3& weights, int32_t element, std::size_t p, Stencil& stencil) {
-  // LinearTriangle is the only family so far; a second one switches on stencil.family here.
-  double* N = stencil.N.data() + p * 3;
-  for (int k = 0; k < 3; ++k) N[k] = weights[k];
-  stencil.row[p] = element;  // the element's row of the tables reset_stencil built
+  StencilRows(&stencil).fill(weights, element, p);
 }
 
 }  // namespace talus::solver

@@ -115,31 +115,34 @@ bool step(Simulation& sim, double dt) {
   return s.lost_particle < 0 && s.bad_particle < 0;
 }
 
-void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int32_t>& node_stamp, int32_t& stamp,
-                       Grids& grids, int threads) {
+void mark_active_nodes(const Stencil& stencil, std::size_t particles, std::vector<int32_t>& node_stamp,
+                       int32_t& stamp, Grids& grids, int threads) {
   ++stamp;
-  const long n = static_cast<long>(particles);
   const int32_t current = stamp;
-  const int W = S.width;
   const long nodes = static_cast<long>(node_stamp.size());
   std::vector<int32_t>& offsets = grids.active_offsets;
   offsets.assign(static_cast<std::size_t>(threads) + 1, 0);
+  with_width(stencil, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
+    const StencilView S(stencil, W);  // and the rest the loop reads, taken once in the region
+    const long n = static_cast<long>(particles);
+    const int32_t mark = current;
+    int32_t* const stamps = node_stamp.data();
 #pragma omp for schedule(static)
     for (long p = 0; p < n; ++p) {
       // Particles sorted by element mostly share their row with the one before: its nodes are marked.
-      if (p > 0 && S.row[p] == S.row[p - 1]) continue;
+      if (p > 0 && S.row(p) == S.row(p - 1)) continue;
       const int32_t* nodes_of_p = S.nodes(p);
       for (int k = 0; k < W; ++k)
-        std::atomic_ref<int32_t>(node_stamp[nodes_of_p[k]]).store(current, std::memory_order_relaxed);
+        std::atomic_ref<int32_t>(stamps[nodes_of_p[k]]).store(mark, std::memory_order_relaxed);
     }
     // The list, ascending: each thread counts the marked nodes of its own range of the node
     // numbers, then writes them from the offset the counts before its range give.
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
     const long begin = nodes * t / team, end = nodes * (t + 1) / team;
     int32_t count = 0;
-    for (long i = begin; i < end; ++i) count += node_stamp[i] == current;
+    for (long i = begin; i < end; ++i) count += stamps[i] == mark;
     offsets[t + 1] = count;
 #pragma omp barrier
 #pragma omp single
@@ -149,8 +152,9 @@ void mark_active_nodes(const Stencil& S, std::size_t particles, std::vector<int3
     }
     int32_t* out = grids.active.data() + offsets[t];
     for (long i = begin; i < end; ++i)
-      if (node_stamp[i] == current) *out++ = static_cast<int32_t>(i);
+      if (stamps[i] == mark) *out++ = static_cast<int32_t>(i);
   }
+  });
 }
 
 void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
@@ -199,19 +203,29 @@ void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
   }
 }
 
-void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, const Vec2& g,
+void particles_to_grid(const Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, const Vec2& g,
                        const std::vector<double>& load_factor, const std::vector<double>& cell_scale, Grids& grids,
                        ThreadBuffers& buffers, int threads) {
-  const long n = static_cast<long>(P.size());
-  const long moving = static_cast<long>(P.moving_count);
-  const bool gradients = grids.per_body;
-  const bool affine = !P.C.empty();  // APIC
-  const bool loaded = !P.load.empty();  // surface loads
-  const bool mixed = !cell_scale.empty();  // mixed integration
-  with_width(S, [&](auto W) {
+  with_width(stencil, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
     auto& mine = buffers[omp_get_thread_num()];
+    // What the loop reads, taken once in the region (StencilView): 14 of its 128 instructions a
+    // particle were reloads of these (callgrind, docs/benchmarks.md).
+    const StencilView S(stencil, W);
+    const long n = static_cast<long>(P.size());
+    const long moving = static_cast<long>(P.moving_count);
+    const bool gradients = grids.per_body;
+    const bool affine = !P.C.empty();  // APIC
+    const bool loaded = !P.load.empty();  // surface loads
+    const bool mixed = !cell_scale.empty();  // mixed integration
+    const Vec2 gravity = g;
+    const int32_t* const body = P.body.data();
+    const int32_t* const field_index = grids.field_index.data();
+    const double* const mass = P.m.data();
+    const Vec2* const velocity = P.v.data();
+    const double* const volume = P.volume.data();
+    const Vec4* const sigma = P.sigma.data();
     // Particles sorted by element come in runs that share a stencil row (the same nodes and
     // gradients) and a field: a run's sums over its particles are scattered once, so that the
     // buffers see one update per node and run rather than per particle. The stress enters the
@@ -235,7 +249,7 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
         if (run_fixed) continue;  // a fixed body lends its mass (and, for contact, its normals) only
         const Vec2& dN_k = run_dN[k];
         b.p[i] += Nmv[k];
-        b.f[i] += Nm[k] * g                                    // (A.7)
+        b.f[i] += Nm[k] * gravity                              // (A.7)
                   - Vec2(V_sigma[0] * dN_k.x() + V_sigma[3] * dN_k.y(),
                          V_sigma[3] * dN_k.x() + V_sigma[1] * dN_k.y())  // (A.8)
                   + Nf[k];
@@ -243,8 +257,8 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
     };
 #pragma omp for schedule(static) nowait
     for (long p = 0; p < n; ++p) {
-      const int32_t row = S.row[p];
-      const int field = grids.field_of(P.body[p]);
+      const int32_t row = S.row(p);
+      const int field = field_index[body[p]];
       const bool fixed = p >= moving;
       if (row != run_row || field != run_field || fixed != run_fixed) {
         scatter_run();
@@ -256,12 +270,12 @@ void particles_to_grid(const Particles& P, const Stencil& S, const std::vector<V
         for (int k = 0; k < W; ++k) Nm[k] = 0, Nmv[k].setZero(), Nf[k].setZero();
       }
       const double* N = S.weights(p);
-      const double m = P.m[p];
+      const double m = mass[p];
       run_mass += m;
       for (int k = 0; k < W; ++k) Nm[k] += N[k] * m;
       if (fixed) continue;
-      const Vec2 mv = m * P.v[p];
-      V_sigma += P.volume[p] * P.sigma[p];
+      const Vec2 mv = m * velocity[p];
+      V_sigma += volume[p] * sigma[p];
       for (int k = 0; k < W; ++k) Nmv[k] += N[k] * mv;
       if (affine) {  // APIC: m_p C_p (x_i - x_p) (Jiang et al. 2015)
         const Vec4& C = P.C[p];
@@ -352,15 +366,21 @@ namespace {
 // 2015, with grad N for linear elements) and carries it into the remap's momentum,
 // m_p (v_p + C_p (x_i - x_p)).
 template <Transfer kTransfer>
-void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>& x_i, double dt, const Grids& grids,
-                         ThreadBuffers& buffers, int threads) {
+void particle_velocities(Particles& P, const Stencil& stencil, const std::vector<Vec2>& x_i, double dt,
+                         const Grids& grids, ThreadBuffers& buffers, int threads) {
   constexpr bool kIncrement = kTransfer == Transfer::Flip || kTransfer == Transfer::PicBlend;
   constexpr bool kAffine = kTransfer == Transfer::Apic;
-  const long moving = static_cast<long>(P.moving_count);
-  with_width(S, [&](auto W) {
+  with_width(stencil, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
     auto& mine = buffers[omp_get_thread_num()];
+    const StencilView S(stencil, W);  // and the rest the loop reads, taken once in the region
+    const long moving = static_cast<long>(P.moving_count);
+    const double step = dt;
+    const int32_t* const body = P.body.data();
+    const int32_t* const field_index = grids.field_index.data();
+    const double* const mass = P.m.data();
+    Vec2* const velocity = P.v.data();
     // As in P2G: a run of particles that share a stencil row and a field reads its nodes' values
     // once and scatters the remap's momentum once.
     int32_t run_row = -1;
@@ -376,8 +396,8 @@ void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>
     };
 #pragma omp for schedule(static) nowait
     for (long p = 0; p < moving; ++p) {
-      const int32_t row = S.row[p];
-      const int field = grids.field_of(P.body[p]);
+      const int32_t row = S.row(p);
+      const int field = field_index[body[p]];
       if (row != run_row || field != run_field) {
         scatter_run();
         run_row = row, run_field = field;
@@ -392,7 +412,7 @@ void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>
       if constexpr (kIncrement) {
         Vec2 a = Vec2::Zero();
         for (int k = 0; k < W; ++k) a += N[k] * node_value[k];
-        P.v[p] += dt * a;  // (A.10)
+        velocity[p] += step * a;  // (A.10)
       } else {
         const Vec2* dN = S.gradients(p);
         Vec2 v = Vec2::Zero();
@@ -402,12 +422,12 @@ void particle_velocities(Particles& P, const Stencil& S, const std::vector<Vec2>
           v += N[k] * vi;
           if constexpr (kAffine) C += vi * dN[k].transpose();
         }
-        P.v[p] = v;
+        velocity[p] = v;
         if constexpr (kAffine) P.C[p] = Vec4(C(0, 0), C(0, 1), C(1, 0), C(1, 1));
       }
       // Momentum for the remap (A.11), summed over the run.
-      const double m = P.m[p];
-      const Vec2 mv = m * P.v[p];
+      const double m = mass[p];
+      const Vec2 mv = m * velocity[p];
       for (int k = 0; k < W; ++k) {
         if constexpr (kAffine) {
           const Vec4& C = P.C[p];
@@ -490,12 +510,20 @@ void remap_grid_velocities_distributed(Simulation& sim) {
   }
 }
 
-void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& grids, double pic_fraction, double dt,
-                                std::vector<Vec4>& d_eps, int threads) {
-  const long moving = static_cast<long>(P.moving_count);
-  with_width(S, [&](auto W) {
+void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grids& grids, double pic_fraction,
+                                double dt, std::vector<Vec4>& d_eps, int threads) {
+  with_width(stencil, [&](auto W) {
 #pragma omp parallel num_threads(threads)
   {
+    const StencilView S(stencil, W);  // and the rest the loop reads, taken once in the region
+    const long moving = static_cast<long>(P.moving_count);
+    const double step = dt, pic = pic_fraction;
+    const int32_t* const body = P.body.data();
+    const int32_t* const field_index = grids.field_index.data();
+    Vec2* const position = P.x.data();
+    Vec2* const velocity = P.v.data();
+    Vec4* const sigma = P.sigma.data();
+    Vec4* const strain = d_eps.data();
     // A run of particles that share a stencil row and a field shares the nodes' velocities and,
     // since it shares the gradients, the velocity gradient too: both are read once per run.
     int32_t run_row = -1;
@@ -505,8 +533,8 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
     Eigen::Matrix2d L = Eigen::Matrix2d::Zero();  // velocity gradient, L_ab = dv_a / dx_b
 #pragma omp for schedule(static)
     for (long p = 0; p < moving; ++p) {
-      const int32_t row = S.row[p];
-      const int field = grids.field_of(P.body[p]);
+      const int32_t row = S.row(p);
+      const int field = field_index[body[p]];
       if (row != run_row || field != run_field) {
         run_row = row, run_field = field;
         const int32_t* nodes = S.nodes(p);
@@ -521,13 +549,13 @@ void update_particle_kinematics(Particles& P, const Stencil& S, const Grids& gri
       const double* N = S.weights(p);
       Vec2 v = Vec2::Zero();
       for (int k = 0; k < W; ++k) v += N[k] * node_v[k];
-      P.x[p] += dt * v;  // (A.12)
-      P.v[p] += pic_fraction * (v - P.v[p]);  // FLIP-PIC blend; no-op for the pure FLIP of (A.10)
+      position[p] += step * v;  // (A.12)
+      if (pic != 0) velocity[p] += pic * (v - velocity[p]);  // FLIP-PIC blend; not for the pure FLIP of (A.10)
 
-      d_eps[p] = Vec4(dt * L(0, 0), dt * L(1, 1), 0, 0.5 * dt * (L(0, 1) + L(1, 0)));
+      strain[p] = Vec4(step * L(0, 0), step * L(1, 1), 0, 0.5 * step * (L(0, 1) + L(1, 0)));
       // Jaumann rate: sigma += W sigma - sigma W with the spin w = dt (L_xy - L_yx) / 2.
-      const double w = 0.5 * dt * (L(0, 1) - L(1, 0));
-      Vec4& s = P.sigma[p];
+      const double w = 0.5 * step * (L(0, 1) - L(1, 0));
+      Vec4& s = sigma[p];
       const double rotation_xx = 2 * w * s[3], rotation_xy = w * (s[1] - s[0]);
       s[0] += rotation_xx;
       s[1] -= rotation_xx;
@@ -580,18 +608,26 @@ namespace {
 // the domain, or -1. A template, so that the walk alone tests nothing per particle.
 template <bool kWithStencil>
 long walk_to_elements(const Mesh& mesh, Particles& P, Stencil* stencil, int threads) {
-  const long moving = static_cast<long>(P.moving_count);
   long lost = -1;
-#pragma omp parallel for schedule(static) reduction(max : lost) num_threads(threads)
-  for (long p = 0; p < moving; ++p) {
-    Vec3 w;
-    const int32_t e = locate(mesh, P.element[p], P.x[p], &w);
-    if (e < 0) {
-      lost = std::max(lost, p);
-      continue;
+#pragma omp parallel num_threads(threads) reduction(max : lost)
+  {
+    // What the loop reads, taken once in the region (MeshView, StencilView).
+    const MeshView tables(mesh);
+    const long moving = static_cast<long>(P.moving_count);
+    const Vec2* const position = P.x.data();
+    int32_t* const element = P.element.data();
+    StencilRows rows(stencil);
+#pragma omp for schedule(static)
+    for (long p = 0; p < moving; ++p) {
+      Vec3 w;
+      const int32_t e = locate(tables, element[p], position[p], &w);
+      if (e < 0) {
+        lost = std::max(lost, p);
+        continue;
+      }
+      element[p] = e;
+      if constexpr (kWithStencil) rows.fill(w, e, static_cast<std::size_t>(p));
     }
-    P.element[p] = e;
-    if constexpr (kWithStencil) compute_stencil_row(w, e, static_cast<std::size_t>(p), *stencil);
   }
   return lost;
 }
