@@ -239,10 +239,11 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
                      Stencil& stencil, int threads) {
   const long first = static_cast<long>(begin), last = static_cast<long>(end);
+  const StencilRows rows(&stencil);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = first; p < last; ++p) {
     const int32_t e = particles.element[p];
-    compute_stencil_row(mesh.weights(e, particles.x[p]), e, p, stencil);
+    rows.fill(mesh.weights(e, particles.x[p]), e, static_cast<std::size_t>(p));
   }
 }
 

@@ -50,17 +50,15 @@ struct Stencil {
     dN_ = row_dN->data();
   }
 
-  // The `width` weights, node ids and gradients of particle p, in the order of its entries.
-  const double* weights(std::size_t p) const { return N.data() + p * static_cast<std::size_t>(width); }
-  const int32_t* nodes(std::size_t p) const { return row_node.data() + offset(p); }
-  const Vec2* gradients(std::size_t p) const { return dN_ + offset(p); }
+  // The `width` weights, node ids and gradients of particle p, in the order of its entries
+  // (StencilView's, below).
+  const double* weights(std::size_t p) const;
+  const int32_t* nodes(std::size_t p) const;
+  const Vec2* gradients(std::size_t p) const;
   const Vec2* gradient_table() const { return dN_; }
 
  private:
   const Vec2* dN_ = nullptr;  // row_dN->data()
-  std::size_t offset(std::size_t p) const {
-    return static_cast<std::size_t>(row[p]) * static_cast<std::size_t>(width);
-  }
 };
 
 // Calls body(W) with the stencil's width W as a compile-time constant for the widths of the
@@ -100,6 +98,11 @@ class StencilView {
   const Vec2* dN_;
 };
 
+// The stencil read entry by entry outside the hot loops; the layout is StencilView's alone.
+inline const double* Stencil::weights(std::size_t p) const { return StencilView(*this, width).weights(p); }
+inline const int32_t* Stencil::nodes(std::size_t p) const { return StencilView(*this, width).nodes(p); }
+inline const Vec2* Stencil::gradients(std::size_t p) const { return StencilView(*this, width).gradients(p); }
+
 // Sizes the stencil for `particles` particles of the family on `mesh` (and fills the shared
 // gradient table where the family has one).
 void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles);
@@ -108,10 +111,10 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
                      Stencil& stencil, int threads = 1);
 
-// Fills particle p's entries (StencilRows::fill): the relocation loop calls it for each particle
-// it has just located in `element`, with the element's barycentric weights at the particle
-// (locate's). StencilRows holds the stencil's data pointers, taken once (StencilView), for a
-// loop that fills a row for every particle; a null stencil fills nothing.
+// Fills particle p's entries (StencilRows::fill): the relocation and compute_stencil call it for
+// each particle they have located in `element`, with the element's barycentric weights at the
+// particle (locate's). StencilRows holds the stencil's data pointers, taken once (StencilView),
+// for a loop that fills a row for every particle; a null stencil fills nothing.
 class StencilRows {
  public:
   explicit StencilRows(Stencil* stencil)
@@ -127,9 +130,5 @@ class StencilRows {
   double* N_;
   int32_t* row_;
 };
-
-inline void compute_stencil_row(const Vec3& weights, int32_t element, std::size_t p, Stencil& stencil) {
-  StencilRows(&stencil).fill(weights, element, p);
-}
 
 }  // namespace talus::solver
