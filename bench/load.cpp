@@ -6,6 +6,7 @@
 //   talus_bench_load                                      the default slope, auto threads and 2
 //   talus_bench_load --talus OLD --talus NEW --repeats 5  two builds, alternately
 //   talus_bench_load --set mesh.size=0.3 --threads 2      the scene and the solve's options
+//   talus_bench_load --late 1 --set run.max_steps=6000    the load starts 1 s after talus does
 //
 // Each repeat runs every (binary, thread setting) quiet and then loaded, one after the other,
 // so that a change of the machine's own load hits all of them alike; medians are reported.
@@ -16,13 +17,17 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "solver/parallel.hpp"
@@ -113,6 +118,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> binaries, sets, thread_settings;
   std::string scene = std::string(TALUS_SOURCE_DIR) + "/geometries/slope.toml", csv;
   int repeats = 3, count = talus::solver::available_cores();
+  double late = 0;  // seconds after talus starts that the competitors start (0: before it)
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&] {
@@ -127,12 +133,18 @@ int main(int argc, char** argv) {
       else if (arg == "--repeats") repeats = std::max(1, std::stoi(value()));
       else if (arg == "--competitors") count = std::max(1, std::stoi(value()));
       else if (arg == "--csv") csv = value();
+      else if (arg == "--late") {
+        late = std::stod(value());
+        if (!(late >= 0 && late < 3600)) throw std::runtime_error("--late: expected seconds in [0, 3600)");
+      }
       else {
         std::printf(
             "usage: %s [--talus BINARY]... [--scene SCENE.toml] [--set KEY=VALUE]... [--threads N|auto]...\n"
-            "          [--repeats N] [--competitors N] [--csv FILE]\n"
+            "          [--repeats N] [--competitors N] [--late SECONDS] [--csv FILE]\n"
             "defaults: this build's talus; geometries/slope.toml with mesh.size=0.25, run.max_steps=1500;\n"
-            "--threads auto and 2; 3 repeats; one competitor per core (%d here)\n",
+            "--threads auto and 2; 3 repeats; one competitor per core (%d here); the competitors start\n"
+            "before talus, or --late SECONDS after it (a load that starts during the solve: give a\n"
+            "scene whose quiet time loop is longer, e.g. --set run.max_steps=6000)\n",
             argv[0], count);
         return arg == "--help" || arg == "-h" ? 0 : 1;
       }
@@ -167,8 +179,45 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeats; ++r)
       for (Series& s : series) {
         const Run quiet = solve(s.binary, model, folder.string(), s.threads);
-        start_competitors(count);
-        const Run loaded = solve(s.binary, model, folder.string(), s.threads);
+        Run loaded;
+        if (late > 0) {
+          // The competitors start `late` seconds into the solve, from a second thread, which
+          // also stops them: a child's PR_SET_PDEATHSIG fires when the thread that forked it ends.
+          std::exception_ptr failed;
+          std::mutex mutex;
+          std::condition_variable changed;
+          bool done = false;
+          std::thread starter([&] {
+            std::unique_lock<std::mutex> lock(mutex);
+            try {
+              if (!changed.wait_for(lock, std::chrono::duration<double>(late), [&] { return done; }))
+                start_competitors(count);
+            } catch (...) {
+              failed = std::current_exception();
+            }
+            changed.wait(lock, [&] { return done; });
+            stop_competitors();
+          });
+          auto finish = [&] {
+            {
+              std::lock_guard<std::mutex> lock(mutex);
+              done = true;
+            }
+            changed.notify_all();
+            starter.join();
+          };
+          try {
+            loaded = solve(s.binary, model, folder.string(), s.threads);
+          } catch (...) {
+            finish();
+            throw;
+          }
+          finish();
+          if (failed) std::rethrow_exception(failed);
+        } else {
+          start_competitors(count);
+          loaded = solve(s.binary, model, folder.string(), s.threads);
+        }
         stop_competitors();
         s.chosen = quiet.threads;
         s.quiet.push_back(quiet.loop_seconds);
@@ -182,7 +231,9 @@ int main(int argc, char** argv) {
     std::getline(load, loadavg);
     std::printf("scene %s", scene.c_str());
     for (const auto& s : sets) std::printf(" --set %s", s.c_str());
-    std::printf("; %d competitors; load average at the end: %s\n\n", count, loadavg.c_str());
+    std::printf("; %d competitors", count);
+    if (late > 0) std::printf(", started %.1f s after talus", late);
+    std::printf("; load average at the end: %s\n\n", loadavg.c_str());
     std::printf("| binary | --threads | ran on | quiet loop (s, median of %d) | loaded loop (s) | loaded / quiet (median) |\n",
                 repeats);
     std::printf("|---|---|---|---:|---:|---:|\n");

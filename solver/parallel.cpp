@@ -99,15 +99,27 @@ bool self_is_this_program() {
 
 }  // namespace
 
+bool spin_is_drivers() {
+  const char* spin = std::getenv("GOMP_SPINCOUNT");
+  const char* ours = std::getenv(kQuietSpinVariable);
+  return spin && ours && std::string(spin) == ours;
+}
+
 void bound_openmp_spin(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT") || std::getenv(kBusyCoresVariable)) return;
+  if (std::getenv("OMP_WAIT_POLICY") || (std::getenv("GOMP_SPINCOUNT") && !spin_is_drivers()) ||
+      std::getenv(kBusyCoresVariable))
+    return;
   if (!self_is_this_program()) return;
   const int busy = busy_cores_now();
-  if (busy == 0) return;  // a quiet machine: OpenMP's own spin is the fastest
+  if (busy == 0) return;  // a quiet machine: the quiet spin stays
+  const char* before = std::getenv("GOMP_SPINCOUNT");
+  const std::string spin = before ? before : "";
   const std::string count = std::to_string(busy);
   if (setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0 || setenv(kBusyCoresVariable, count.c_str(), 1) != 0) return;
   execv("/proc/self/exe", argv);
-  unsetenv("GOMP_SPINCOUNT");  // exec failed: carry on with OpenMP's defaults
+  // The exec failed: carry on with the spin libgomp has read, and hand it to child processes.
+  if (spin.empty()) unsetenv("GOMP_SPINCOUNT");
+  else setenv("GOMP_SPINCOUNT", spin.c_str(), 1);
   unsetenv(kBusyCoresVariable);
 }
 

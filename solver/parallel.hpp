@@ -49,21 +49,31 @@ struct ThreadChoice {
 // (busy_cores_at_start).
 ThreadChoice choose_threads(long particles, int requested);
 
-// OpenMP threads that wait at the end of a loop spin first (libgomp: about 300,000 spins, a
-// few ms) and then sleep. When other programs hold the cores, a thread spinning for a
-// descheduled partner burns the time that partner needs: a 2-thread solve took 12x its quiet
-// time with one busy program per core, and up to 20x under the build load of this machine.
+// OpenMP threads that wait at the end of a loop spin first (libgomp: 300,000 spins, about 9 ms
+// on this machine's cores) and then sleep. When other programs hold the cores, a thread spinning
+// for a descheduled partner burns the time that partner needs: a 2-thread solve took 12x its
+// quiet time with one busy program per core, and up to 20x under the build load of this machine.
 // A spin of kSpinCount (a few microseconds) then sleeping yields the core at once under load,
 // but on a quiet machine it makes every barrier wait for a woken thread (the 6k-particle slope
 // on 2 threads: 0.86 s against 0.61 s with libgomp's spin; docs/benchmarks.md, "Under load").
 // So when other programs are running at the start (busy_cores_now() > 0), this starts the
 // program again (execv of /proc/self/exe with the same arguments; libgomp reads its settings
-// when it is loaded, before main) with GOMP_SPINCOUNT = kSpinCount and kBusyCoresVariable set;
-// on a quiet machine it does nothing. A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT is left
-// alone, and so is a process where /proc/self/exe cannot be run or is not this program (under
-// valgrind it is the tool, which cannot be run directly).
+// when it is loaded, before main) with GOMP_SPINCOUNT = kSpinCount and kBusyCoresVariable set.
+// On a quiet machine it does nothing. The driver `./talus` starts the program with
+// GOMP_SPINCOUNT = 30000 (about 0.9 ms), marked as its own by the same value in
+// kQuietSpinVariable: longer than any wait inside a step, so a quiet solve runs as fast as with
+// libgomp's default, and a tenth of that default, so a load that starts during the solve costs
+// a waiting thread at most that long per barrier (docs/benchmarks.md, "A load that starts during
+// the solve"). It cannot be set here: libgomp has read the variables before main runs, and
+// restarting every quiet run would cost its start-up (0.2 s) again.
+// A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT is left alone, and so is a process where
+// /proc/self/exe cannot be run or is not this program (under valgrind it is the tool, which
+// cannot be run directly).
 // Call it first thing in main.
 inline constexpr const char* kSpinCount = "300";
+inline constexpr const char* kQuietSpinVariable = "TALUS_QUIET_SPINCOUNT";
+// Whether GOMP_SPINCOUNT is the driver's quiet spin (kQuietSpinVariable holds the same value).
+bool spin_is_drivers();
 void bound_openmp_spin(char** argv);
 
 // Thread t's share [begin, end) of [0, n) when split into `threads` contiguous chunks.

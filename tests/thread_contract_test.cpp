@@ -187,6 +187,30 @@ TEST(ThreadChoice, LeavesTheCoresThatWereBusyAtTheStart) {
   EXPECT_EQ(busy_cores_at_start(), 0);
 }
 
+// The driver's quiet spin is told apart from a user's GOMP_SPINCOUNT by its mark, so that a
+// busy start still restarts with the short spin while a user's setting is left alone.
+TEST(ThreadChoice, TheDriversQuietSpinIsToldApartFromTheUsers) {
+  const char* spin = std::getenv("GOMP_SPINCOUNT");
+  const char* mark = std::getenv(kQuietSpinVariable);
+  const std::string spin_before = spin ? spin : "", mark_before = mark ? mark : "";
+  setenv("GOMP_SPINCOUNT", "30000", 1);
+  setenv(kQuietSpinVariable, "30000", 1);
+  const bool drivers = spin_is_drivers();
+  setenv("GOMP_SPINCOUNT", "5000", 1);  // the user's, though the mark is there
+  const bool users = spin_is_drivers();
+  unsetenv(kQuietSpinVariable);
+  setenv("GOMP_SPINCOUNT", "30000", 1);  // the user's, with the driver's number
+  const bool unmarked = spin_is_drivers();
+  unsetenv("GOMP_SPINCOUNT");
+  const bool none = spin_is_drivers();
+  if (spin) setenv("GOMP_SPINCOUNT", spin_before.c_str(), 1);
+  if (mark) setenv(kQuietSpinVariable, mark_before.c_str(), 1);
+  EXPECT_TRUE(drivers);
+  EXPECT_FALSE(users);
+  EXPECT_FALSE(unmarked);
+  EXPECT_FALSE(none);
+}
+
 TEST(ThreadContract, AMovedModelBuildsTheSameSimulationAndKeepsNoParticles) {
   const Model model = busy_model();
   Model handed_over = model;
