@@ -1,11 +1,13 @@
 #include "solver/parallel.hpp"
 
+#include <pthread.h>
 #include <sched.h>
 #include <sys/auxv.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -77,7 +79,10 @@ ThreadChoice choose_threads(long particles, int requested) {
   const long by_size = std::max(1L, particles / kParticlesPerThread);
   const int busy = busy_cores_at_start();
   ThreadChoice choice;
-  choice.threads = static_cast<int>(std::min<long>(std::max(1, cores - busy), by_size));
+  // Cores that other programs leave free are this solve's; when none is free, all of them are,
+  // for the fair share the scheduler gives each of the solve's threads (ThreadPinning keeps
+  // those threads apart).
+  choice.threads = static_cast<int>(std::min<long>(busy < cores ? cores - busy : cores, by_size));
   choice.why = "auto: " + with_commas(particles) + " particles, " + std::to_string(cores) +
                (from_env ? " from OMP_NUM_THREADS" : cores == 1 ? " core" : " cores") +
                (sharing > 1 && !from_env ? " of the machine's shared by its " + std::to_string(sharing) + " ranks" : "") +
@@ -101,7 +106,7 @@ bool self_is_this_program() {
 
 bool spin_is_drivers() {
   const char* spin = std::getenv("GOMP_SPINCOUNT");
-  const char* ours = std::getenv(kQuietSpinVariable);
+  const char* ours = std::getenv(kDriverSpinVariable);
   return spin && ours && std::string(spin) == ours;
 }
 
@@ -109,18 +114,62 @@ void bound_openmp_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") || (std::getenv("GOMP_SPINCOUNT") && !spin_is_drivers()) ||
       std::getenv(kBusyCoresVariable))
     return;
-  if (!self_is_this_program()) return;
   const int busy = busy_cores_now();
-  if (busy == 0) return;  // a quiet machine: the quiet spin stays
-  const char* before = std::getenv("GOMP_SPINCOUNT");
-  const std::string spin = before ? before : "";
+  if (busy == 0) return;  // a quiet machine
   const std::string count = std::to_string(busy);
+  if (spin_is_drivers()) {  // libgomp has the driver's spin, the one for a busy machine too
+    setenv(kBusyCoresVariable, count.c_str(), 1);
+    return;
+  }
+  if (!self_is_this_program()) return;
   if (setenv("GOMP_SPINCOUNT", kSpinCount, 1) != 0 || setenv(kBusyCoresVariable, count.c_str(), 1) != 0) return;
   execv("/proc/self/exe", argv);
-  // The exec failed: carry on with the spin libgomp has read, and hand it to child processes.
-  if (spin.empty()) unsetenv("GOMP_SPINCOUNT");
-  else setenv("GOMP_SPINCOUNT", spin.c_str(), 1);
+  unsetenv("GOMP_SPINCOUNT");  // the exec failed: carry on with OpenMP's defaults
   unsetenv(kBusyCoresVariable);
+}
+
+namespace {
+
+// Whether OpenMP's waiting threads sleep at once (OMP_WAIT_POLICY=passive, or no spin).
+bool waits_sleep() {
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const char* spin = std::getenv("GOMP_SPINCOUNT");
+  std::string lower = policy ? policy : "";
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower == "passive" || (spin && std::string(spin) == "0");
+}
+
+}  // namespace
+
+ThreadPinning::ThreadPinning(int threads) : threads_(threads) {
+  if (threads_ < 2 || omp_in_parallel() || std::getenv("OMP_PROC_BIND") || std::getenv("OMP_PLACES")) return;
+  if (waits_sleep()) return;
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof mask, &mask) != 0) return;
+  std::vector<int> cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &mask)) cpus.push_back(c);
+  if (static_cast<int>(cpus.size()) != threads_) return;
+  mask_.assign(reinterpret_cast<const unsigned char*>(&mask), reinterpret_cast<const unsigned char*>(&mask) + sizeof mask);
+  int failed = 0;
+#pragma omp parallel num_threads(threads_) reduction(+ : failed)
+  {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpus[static_cast<std::size_t>(omp_get_thread_num())], &one);
+    failed += pthread_setaffinity_np(pthread_self(), sizeof one, &one) != 0;
+  }
+  if (failed > 0) release();  // some thread could not be pinned: none stays pinned
+}
+
+void ThreadPinning::release() {
+  if (mask_.empty()) return;
+  cpu_set_t mask;
+  std::copy(mask_.begin(), mask_.end(), reinterpret_cast<unsigned char*>(&mask));
+#pragma omp parallel num_threads(threads_)
+  pthread_setaffinity_np(pthread_self(), sizeof mask, &mask);
+  mask_.clear();
 }
 
 }  // namespace talus::solver

@@ -23,14 +23,14 @@ namespace talus::solver {
 // thread at least this many particles.
 inline constexpr long kParticlesPerThread = 250;
 
-// Set by bound_openmp_spin when it restarts the program on a busy machine: how many other
-// programs were running then. The automatic thread count leaves that many cores to them.
+// Set by bound_openmp_spin on a busy machine: how many other programs were running when talus
+// started. The automatic thread count leaves that many cores to them while any core stays free.
 inline constexpr const char* kBusyCoresVariable = "TALUS_BUSY_CORES";
 
 // Other programs running now: procs_running of /proc/stat (less this process), the median of 5
 // samples 2 ms apart; 0 when it cannot be read.
 int busy_cores_now();
-// The count bound_openmp_spin saw (kBusyCoresVariable), 0 when it did not restart the program.
+// The count bound_openmp_spin saw (kBusyCoresVariable), 0 on a quiet start.
 int busy_cores_at_start();
 
 // The cores this process may run on: the CPUs of its affinity mask (sched_getaffinity), else
@@ -46,35 +46,58 @@ struct ThreadChoice {
 // problem size: particles / kParticlesPerThread, at least 1, at most the cores available
 // (the affinity mask; OMP_NUM_THREADS when set in the environment; omp_set_num_threads when
 // called with fewer) less the cores busy with other programs when talus started
-// (busy_cores_at_start).
+// (busy_cores_at_start), or all of them when no core was free.
 ThreadChoice choose_threads(long particles, int requested);
 
 // OpenMP threads that wait at the end of a loop spin first (libgomp: 300,000 spins, about 9 ms
 // on this machine's cores) and then sleep. When other programs hold the cores, a thread spinning
 // for a descheduled partner burns the time that partner needs: a 2-thread solve took 12x its
 // quiet time with one busy program per core, and up to 20x under the build load of this machine.
-// A spin of kSpinCount (a few microseconds) then sleeping yields the core at once under load,
-// but on a quiet machine it makes every barrier wait for a woken thread (the 6k-particle slope
-// on 2 threads: 0.86 s against 0.61 s with libgomp's spin; docs/benchmarks.md, "Under load").
-// So when other programs are running at the start (busy_cores_now() > 0), this starts the
-// program again (execv of /proc/self/exe with the same arguments; libgomp reads its settings
-// when it is loaded, before main) with GOMP_SPINCOUNT = kSpinCount and kBusyCoresVariable set.
-// On a quiet machine it does nothing. The driver `./talus` starts the program with
-// GOMP_SPINCOUNT = 30000 (about 0.9 ms), marked as its own by the same value in
-// kQuietSpinVariable: longer than any wait inside a step, so a quiet solve runs as fast as with
-// libgomp's default, and a tenth of that default, so a load that starts during the solve costs
-// a waiting thread at most that long per barrier (docs/benchmarks.md, "A load that starts during
-// the solve"). It cannot be set here: libgomp has read the variables before main runs, and
-// restarting every quiet run would cost its start-up (0.2 s) again.
-// A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT is left alone, and so is a process where
-// /proc/self/exe cannot be run or is not this program (under valgrind it is the tool, which
-// cannot be run directly).
+// kSpinCount spins (about 0.9 ms) are longer than any wait inside a step, so a quiet solve runs
+// as fast as with libgomp's default, and a tenth of it under load; with the threads pinned
+// (ThreadPinning), the crossed default slope under one busy program per core took 2.1 times its
+// quiet time on 2 threads, against 2.9 on 1 thread and 3.2 with a spin of 300 (medians;
+// docs/benchmarks.md, "Under load"). libgomp reads the spin when it is loaded, before main, so the driver `./talus`
+// starts the program with GOMP_SPINCOUNT = kSpinCount, marked as its own by the same value in
+// kDriverSpinVariable (a restart of every run would cost talus's start-up, 0.2 s, again).
+// This function looks at the machine (busy_cores_now): when other programs are running, it
+// records their number in kBusyCoresVariable for choose_threads; a program started without the
+// driver's spin is then started again (execv of /proc/self/exe with the same arguments) with
+// GOMP_SPINCOUNT = kSpinCount. A user's OMP_WAIT_POLICY or GOMP_SPINCOUNT turns all of this off,
+// and so does a process where /proc/self/exe cannot be run or is not this program (under
+// valgrind it is the tool, which cannot be run directly) when it would have to restart.
 // Call it first thing in main.
-inline constexpr const char* kSpinCount = "300";
-inline constexpr const char* kQuietSpinVariable = "TALUS_QUIET_SPINCOUNT";
-// Whether GOMP_SPINCOUNT is the driver's quiet spin (kQuietSpinVariable holds the same value).
+inline constexpr const char* kSpinCount = "30000";  // the driver `talus` sets the same
+inline constexpr const char* kDriverSpinVariable = "TALUS_DRIVER_SPINCOUNT";
+// Whether GOMP_SPINCOUNT is the driver's spin (kDriverSpinVariable holds the same value).
 bool spin_is_drivers();
 void bound_openmp_spin(char** argv);
+
+// A solve whose threads take every CPU of the process's affinity mask pins thread t to the t-th
+// of those CPUs for its time loop, and gives every thread its mask back at the end. Unpinned,
+// the scheduler places a thread woken at a barrier beside the thread that woke it: when another
+// program takes a core during the solve, both threads then share the other core and every
+// barrier costs the waiter's whole spin (a load that started during the 3,000-step crossed slope:
+// 14-17 s unpinned, the two threads on one CPU in 70-80 % of samples; 4.7-5.9 s pinned;
+// docs/benchmarks.md, "Under load"). Nothing is pinned for one thread, for fewer threads than
+// CPUs (other programs, or other ranks of an MPI solve, may need the rest), when the user set
+// OMP_PROC_BIND or OMP_PLACES, or when waiting threads sleep at once (OMP_WAIT_POLICY=passive,
+// as in the test suite): sleeping threads leave their CPUs idle, and unpinned ones move to
+// idle CPUs (two solves at once with passive waits: 2.1 s unpinned, 3.0-3.8 s pinned; with
+// the spin of 30,000, 35-37 s unpinned and 1.8-2.5 s pinned).
+class ThreadPinning {
+ public:
+  explicit ThreadPinning(int threads);
+  ~ThreadPinning() { release(); }
+  ThreadPinning(const ThreadPinning&) = delete;
+  ThreadPinning& operator=(const ThreadPinning&) = delete;
+  bool pinned() const { return !mask_.empty(); }
+
+ private:
+  void release();  // every thread back to the mask it had
+  int threads_ = 1;
+  std::vector<unsigned char> mask_;  // the cpu_set_t the threads had; empty: nothing pinned
+};
 
 // Thread t's share [begin, end) of [0, n) when split into `threads` contiguous chunks.
 inline void chunk_of(long n, int threads, int t, long& begin, long& end) {

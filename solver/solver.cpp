@@ -167,7 +167,9 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const auto start = Clock::now();
   const double setup_seconds = std::chrono::duration<double>(start - setup_start).count();
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  std::optional<ThreadPinning> pinning(std::in_place, sim.config.threads);
   const LoopEnd end = run_time_loop(sim, run.cfl, run.end_time, observers);
+  pinning.reset();  // the threads' masks back before anything else runs on them
   progress.done();
 
   const std::string results_path = (std::filesystem::path(options.out_dir) / "results.h5").string();

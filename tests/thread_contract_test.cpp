@@ -4,7 +4,10 @@
 // whatever OpenMP's setting, and the same T gives bit-identical results run after run.
 #include <gtest/gtest.h>
 #include <omp.h>
+#include <pthread.h>
+#include <sched.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -168,8 +171,9 @@ TEST(ThreadChoice, SmallProblemsRunOnOneThreadLargeOnTheCores) {
 }
 
 // A busy machine at the start (what bound_openmp_spin hands over in TALUS_BUSY_CORES): the
-// automatic count leaves the busy cores to the other programs, keeps at least one thread, and
-// says so; --threads still wins.
+// automatic count leaves the busy cores to the other programs while one stays free, takes all
+// of them when none does (the fair share; ThreadPinning keeps the threads apart), and says so;
+// --threads still wins.
 TEST(ThreadChoice, LeavesTheCoresThatWereBusyAtTheStart) {
   omp_set_num_threads(8);
   const int cores = std::getenv("OMP_NUM_THREADS") ? 8 : std::min(available_cores(), 8);
@@ -179,36 +183,90 @@ TEST(ThreadChoice, LeavesTheCoresThatWereBusyAtTheStart) {
   const ThreadChoice all_busy = choose_threads(1000 * kParticlesPerThread, 0);
   const ThreadChoice asked = choose_threads(1000 * kParticlesPerThread, 2);
   unsetenv(kBusyCoresVariable);
-  EXPECT_EQ(one_busy.threads, std::max(1, cores - 1));
+  EXPECT_EQ(one_busy.threads, cores > 1 ? cores - 1 : 1);
   EXPECT_NE(one_busy.why.find(", 1 busy"), std::string::npos) << one_busy.why;
-  EXPECT_EQ(all_busy.threads, 1);
+  EXPECT_EQ(all_busy.threads, cores);
+  EXPECT_NE(all_busy.why.find(", 64 busy"), std::string::npos) << all_busy.why;
   EXPECT_EQ(asked.threads, 2);
   EXPECT_EQ(choose_threads(1000 * kParticlesPerThread, 0).threads, cores);
   EXPECT_EQ(busy_cores_at_start(), 0);
 }
 
-// The driver's quiet spin is told apart from a user's GOMP_SPINCOUNT by its mark, so that a
+// The driver's spin is told apart from a user's GOMP_SPINCOUNT by its mark, so that a
 // busy start still restarts with the short spin while a user's setting is left alone.
-TEST(ThreadChoice, TheDriversQuietSpinIsToldApartFromTheUsers) {
+TEST(ThreadChoice, TheDriversSpinIsToldApartFromTheUsers) {
   const char* spin = std::getenv("GOMP_SPINCOUNT");
-  const char* mark = std::getenv(kQuietSpinVariable);
+  const char* mark = std::getenv(kDriverSpinVariable);
   const std::string spin_before = spin ? spin : "", mark_before = mark ? mark : "";
   setenv("GOMP_SPINCOUNT", "30000", 1);
-  setenv(kQuietSpinVariable, "30000", 1);
+  setenv(kDriverSpinVariable, "30000", 1);
   const bool drivers = spin_is_drivers();
   setenv("GOMP_SPINCOUNT", "5000", 1);  // the user's, though the mark is there
   const bool users = spin_is_drivers();
-  unsetenv(kQuietSpinVariable);
+  unsetenv(kDriverSpinVariable);
   setenv("GOMP_SPINCOUNT", "30000", 1);  // the user's, with the driver's number
   const bool unmarked = spin_is_drivers();
   unsetenv("GOMP_SPINCOUNT");
   const bool none = spin_is_drivers();
   if (spin) setenv("GOMP_SPINCOUNT", spin_before.c_str(), 1);
-  if (mark) setenv(kQuietSpinVariable, mark_before.c_str(), 1);
+  if (mark) setenv(kDriverSpinVariable, mark_before.c_str(), 1);
   EXPECT_TRUE(drivers);
   EXPECT_FALSE(users);
   EXPECT_FALSE(unmarked);
   EXPECT_FALSE(none);
+}
+
+namespace {
+
+// The lowest CPU each thread of a team of `threads` may run on, by thread number, and how many.
+std::vector<int> cpus_of_team(int threads, std::vector<int>* counts = nullptr) {
+  std::vector<int> first(static_cast<std::size_t>(threads), -1), count(static_cast<std::size_t>(threads), 0);
+#pragma omp parallel num_threads(threads)
+  {
+    cpu_set_t mask;
+    CPU_ZERO(&mask);
+    if (pthread_getaffinity_np(pthread_self(), sizeof mask, &mask) == 0) {
+      const auto t = static_cast<std::size_t>(omp_get_thread_num());
+      count[t] = CPU_COUNT(&mask);
+      for (int c = CPU_SETSIZE - 1; c >= 0; --c)
+        if (CPU_ISSET(c, &mask)) first[t] = c;
+    }
+  }
+  if (counts) *counts = count;
+  return first;
+}
+
+}  // namespace
+
+// A team that takes every CPU of the mask is pinned one thread per CPU for the time loop and
+// gets its mask back afterwards; a smaller team, or one whose waits sleep, is left alone.
+TEST(ThreadChoice, ATeamOfEveryCpuIsPinnedOneThreadPerCpuAndReleased) {
+  const int cpus = available_cores();
+  if (cpus < 2 || std::getenv("OMP_PROC_BIND") || std::getenv("OMP_PLACES"))
+    GTEST_SKIP() << "needs 2 or more CPUs and no OMP_PROC_BIND/OMP_PLACES";
+  // Waits that sleep at once (the test suite's OMP_WAIT_POLICY=passive) pin nothing.
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const std::string policy_before = policy ? policy : "";
+  setenv("OMP_WAIT_POLICY", "Passive", 1);
+  const bool pinned_passive = ThreadPinning(cpus).pinned();
+  unsetenv("OMP_WAIT_POLICY");
+  std::vector<int> counts;
+  {
+    const ThreadPinning pinning(cpus);
+    if (policy) setenv("OMP_WAIT_POLICY", policy_before.c_str(), 1);
+    EXPECT_FALSE(pinned_passive);
+    ASSERT_TRUE(pinning.pinned());
+    std::vector<int> first = cpus_of_team(cpus, &counts);
+    for (int n : counts) EXPECT_EQ(n, 1);
+    std::sort(first.begin(), first.end());
+    EXPECT_TRUE(std::adjacent_find(first.begin(), first.end()) == first.end()) << "two threads on one CPU";
+  }
+  cpus_of_team(cpus, &counts);
+  for (int n : counts) EXPECT_EQ(n, cpus);  // released
+  EXPECT_FALSE(ThreadPinning(1).pinned());
+  if (cpus > 2) {
+    EXPECT_FALSE(ThreadPinning(cpus - 1).pinned());
+  }
 }
 
 TEST(ThreadContract, AMovedModelBuildsTheSameSimulationAndKeepsNoParticles) {
