@@ -192,8 +192,8 @@ TEST(ThreadChoice, LeavesTheCoresThatWereBusyAtTheStart) {
   EXPECT_EQ(busy_cores_at_start(), 0);
 }
 
-// The driver's spin is told apart from a user's GOMP_SPINCOUNT by its mark, so that a
-// busy start still restarts with the short spin while a user's setting is left alone.
+// The driver's spin is told apart from a user's GOMP_SPINCOUNT by its mark: with the driver's,
+// talus still looks at the machine (and needs no restart); a user's turns the look off.
 TEST(ThreadChoice, TheDriversSpinIsToldApartFromTheUsers) {
   const char* spin = std::getenv("GOMP_SPINCOUNT");
   const char* mark = std::getenv(kDriverSpinVariable);
