@@ -57,9 +57,10 @@ ThreadChoice choose_threads(long particles, int requested);
 // as fast as with libgomp's default, and a tenth of it under load; with the threads pinned
 // (ThreadPinning), the crossed default slope under one busy program per core took 2.1 times its
 // quiet time on 2 threads, against 2.9 on 1 thread and 3.2 with a spin of 300 (medians;
-// docs/benchmarks.md, "Under load"). libgomp reads the spin when it is loaded, before main, so the driver `./talus`
-// starts the program with GOMP_SPINCOUNT = kSpinCount, marked as its own by the same value in
-// kDriverSpinVariable (a restart of every run would cost talus's start-up, 0.2 s, again).
+// docs/benchmarks.md, "Under load"). libgomp reads the spin when it is loaded, before main, so
+// the driver `./talus` starts the program with GOMP_SPINCOUNT = kSpinCount, marked as its own
+// by the same value in kDriverSpinVariable (a restart of every run would cost talus's start-up,
+// 0.2 s, again).
 // This function looks at the machine (busy_cores_now): when other programs are running, it
 // records their number in kBusyCoresVariable for choose_threads; a program started without the
 // driver's spin is then started again (execv of /proc/self/exe with the same arguments) with
