@@ -4,7 +4,8 @@
 // memory is its own; the median of several repeats is reported. Per case: the set-up (the
 // model built, written to model.h5 and read back, the simulation built), the loop's rate,
 // peak resident bytes per particle, the time per step phase, and how far the rate is from
-// what the machine's memory bandwidth (a STREAM-like triad, measured here) allows.
+// what the machine's memory bandwidth (a STREAM-like triad, measured here) allows; the frame the
+// loop writes, against the rate at which the machine writes a new file (measured here).
 //
 //   build/bin/talus_bench_throughput                       50k, 400k, 2M, 10M; 1 and all cores
 //   build/bin/talus_bench_throughput --sizes 50k,400k      a quick sweep (no 2M, 10M)
@@ -12,6 +13,7 @@
 //   build/bin/talus_bench_throughput --case 50000 2        one case (used by the above)
 //   build/bin/talus_bench_throughput --model M.h5 2         a scene's model (talus mesh), its own
 //                                                          run settings: rate and time per phase
+#include <fcntl.h>
 #include <omp.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -28,6 +30,7 @@
 #include <vector>
 
 #include "solver/parallel.hpp"
+#include "solver/results.hpp"
 #include "solver/simulation.hpp"
 #include "solver/solver.hpp"
 #include "support/test_support.hpp"
@@ -63,6 +66,11 @@ struct Measurement {
   double frame_seconds = 0;  // of the loop: writing the frames after the first (the last one here)
   double stepping_rate() const {  // particle-updates/s of the loop without its frames
     return static_cast<double>(particles) * steps / (loop_seconds - frame_seconds);
+  }
+  // particle-updates/s with the loop's frame written once per `interval` steps instead
+  double rate_with_frame_every(long interval) const {
+    const double per_step = (loop_seconds - frame_seconds) / static_cast<double>(steps) + frame_seconds / interval;
+    return static_cast<double>(particles) / per_step;
   }
   double phase[kPhases] = {};                                                  // s over the loop
 };
@@ -169,6 +177,38 @@ double triad_bandwidth(int threads) {
   return 24.0 * n / best;
 }
 
+// The rate at which this machine writes a new file in the temporary directory (where the cases
+// write results.h5), as a frame is written: 2 MiB at a time (a frame piece of the stress, whose
+// chunk is kFrameBlock rows of 4 doubles), without fsync (a frame is not synced either). Three
+// files of 1 GiB (about a 10M-particle frame) are written one after the other and kept until the
+// end, so that each goes to page cache not freed by the one before; the median of their rates,
+// in bytes per second, and the slowest and fastest in `range`. 0 if the files cannot be written.
+double file_write_rate(double range[2]) {
+  const auto folder = std::filesystem::temp_directory_path() / ("talus-bench-write-" + std::to_string(getpid()));
+  std::filesystem::create_directories(folder);
+  const std::size_t piece = talus::solver::kFrameBlock * 4 * sizeof(double), pieces = 512;
+  const std::vector<char> data(piece, 1);
+  std::vector<double> rates;
+  for (int file = 0; file < 3; ++file) {
+    const std::string path = (folder / ("file" + std::to_string(file))).string();
+    const int fd = open(path.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
+    if (fd < 0) break;
+    const auto start = Clock::now();
+    bool ok = true;
+    for (std::size_t k = 0; ok && k < pieces; ++k)
+      ok = pwrite(fd, data.data(), piece, static_cast<off_t>(k * piece)) == static_cast<ssize_t>(piece);
+    const double seconds = since(start);
+    close(fd);
+    if (!ok) break;
+    rates.push_back(static_cast<double>(piece * pieces) / seconds);
+  }
+  std::filesystem::remove_all(folder);
+  if (rates.size() < 3) return 0;
+  std::sort(rates.begin(), rates.end());
+  range[0] = rates.front(), range[1] = rates.back();
+  return rates[1];
+}
+
 // Bytes of per-particle arrays the step reads and writes: the particle fields, the stencil's
 // weights and row index and the strain increment, per particle, from a
 // small block (they do not depend on the size).
@@ -250,6 +290,15 @@ int main(int argc, char** argv) {
     std::printf("Memory bandwidth (triad, %d thread%s): %.1f GB/s: at most %.3g particle-updates/s\n", t,
                 t == 1 ? "" : "s", bandwidth.back() / 1e9, bandwidth.back() / (2 * state_bytes));
   }
+  double write_range[2] = {0, 0};
+  const double write_rate = file_write_rate(write_range);
+  if (write_rate > 0)
+    std::printf("New file written in %s (3 x 1 GiB in 2 MiB pieces, as a frame is): %.2f GB/s (%.2f - %.2f)\n",
+                std::filesystem::temp_directory_path().c_str(), write_rate / 1e9, write_range[0] / 1e9,
+                write_range[1] / 1e9);
+  else
+    std::printf("New file written in %s: not measured (3 GiB could not be written there)\n",
+                std::filesystem::temp_directory_path().c_str());
   std::printf("\n");
   std::ofstream table_csv;
   if (!csv.empty()) {
@@ -315,19 +364,34 @@ int main(int argc, char** argv) {
   std::printf("\n| **loop** |");
   for (const Measurement& m : medians) std::printf(" %.1f |", per_update(m, m.loop_seconds));
   std::printf("\n");
+  // The frame against the machine's file writing: a frame holds every frame field in doubles.
+  int frame_width = 0;
+  for (const auto& field : talus::solver::frame_fields(false)) frame_width += field.width;
+  std::printf("\nThe last frame (%d doubles per particle), against the new file's %.2f GB/s above:\n", frame_width,
+              write_rate / 1e9);  // 0.00 and 0% where it was not measured
+  for (const Measurement& m : medians) {
+    const double bytes = 8.0 * frame_width * static_cast<double>(m.particles);
+    std::printf("  %ld particles, %d thread%s: %.0f MB in %.2f s, %.2f GB/s (%.0f%%)\n", m.particles, m.threads,
+                m.threads == 1 ? "" : "s", bytes / 1e6, m.frame_seconds, bytes / m.frame_seconds / 1e9,
+                write_rate > 0 ? 100 * bytes / m.frame_seconds / write_rate : 0.0);
+  }
   // Each case against the smallest at the same thread count. Every case writes one frame in its
   // loop (the last), so that frame weighs 20 times more per update over the 20 steps of 10M
-  // particles than over the 400 of 50k: the second ratio leaves it out.
-  std::printf("\nRate against the smallest case of the same thread count (loop; loop without the frame):\n");
+  // particles than over the 400 of 50k: the second ratio leaves it out, and the third spreads
+  // the case's measured frame over as many steps as the smallest case's loop has (one frame per
+  // that many steps, as a run with that output interval writes them).
+  std::printf("\nRate against the smallest case of the same thread count (loop; loop without the frame; one frame "
+              "per as many steps as the smallest case):\n");
   for (const Measurement& base : medians) {
     bool smallest = true;
     for (const Measurement& other : medians) smallest &= other.threads != base.threads || other.particles >= base.particles;
     if (!smallest) continue;
     for (const Measurement& m : medians)
       if (m.threads == base.threads && m.particles > base.particles)
-        std::printf("  %ld against %ld particles, %d thread%s: %.2f; %.2f\n", m.particles, base.particles, m.threads,
-                    m.threads == 1 ? "" : "s", m.updates_per_second / base.updates_per_second,
-                    m.stepping_rate() / base.stepping_rate());
+        std::printf("  %ld against %ld particles, %d thread%s: %.2f; %.2f; %.2f\n", m.particles, base.particles,
+                    m.threads, m.threads == 1 ? "" : "s", m.updates_per_second / base.updates_per_second,
+                    m.stepping_rate() / base.stepping_rate(),
+                    m.rate_with_frame_every(base.steps) / base.updates_per_second);
   }
   return 0;
 }
