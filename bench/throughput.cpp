@@ -182,11 +182,15 @@ double triad_bandwidth(int threads) {
 // chunk is kFrameBlock rows of 4 doubles), without fsync (a frame is not synced either). Three
 // files of 1 GiB (about a 10M-particle frame) are written one after the other and kept until the
 // end, so that each goes to page cache not freed by the one before; the median of their rates,
-// in bytes per second, and the slowest and fastest in `range`. 0 if the files cannot be written.
+// in bytes per second, and the slowest and fastest in `range`. 0 if the files cannot be written,
+// and without trying where less than 4 GiB are free (the bench does not fill a disk).
 double file_write_rate(double range[2]) {
+  const std::size_t piece = talus::solver::kFrameBlock * 4 * sizeof(double), pieces = 512;
+  std::error_code error;
+  const auto space = std::filesystem::space(std::filesystem::temp_directory_path(), error);
+  if (error || space.available < 4 * piece * pieces) return 0;
   const auto folder = std::filesystem::temp_directory_path() / ("talus-bench-write-" + std::to_string(getpid()));
   std::filesystem::create_directories(folder);
-  const std::size_t piece = talus::solver::kFrameBlock * 4 * sizeof(double), pieces = 512;
   const std::vector<char> data(piece, 1);
   std::vector<double> rates;
   for (int file = 0; file < 3; ++file) {
@@ -297,7 +301,7 @@ int main(int argc, char** argv) {
                 std::filesystem::temp_directory_path().c_str(), write_rate / 1e9, write_range[0] / 1e9,
                 write_range[1] / 1e9);
   else
-    std::printf("New file written in %s: not measured (3 GiB could not be written there)\n",
+    std::printf("New file written in %s: not measured (less than 4 GiB free, or 3 GiB could not be written)\n",
                 std::filesystem::temp_directory_path().c_str());
   std::printf("\n");
   std::ofstream table_csv;
@@ -370,6 +374,7 @@ int main(int argc, char** argv) {
   std::printf("\nThe last frame (%d doubles per particle), against the new file's %.2f GB/s above:\n", frame_width,
               write_rate / 1e9);  // 0.00 and 0% where it was not measured
   for (const Measurement& m : medians) {
+    if (!(m.frame_seconds > 0)) continue;  // too short for the clock
     const double bytes = 8.0 * frame_width * static_cast<double>(m.particles);
     std::printf("  %ld particles, %d thread%s: %.0f MB in %.2f s, %.2f GB/s (%.0f%%)\n", m.particles, m.threads,
                 m.threads == 1 ? "" : "s", bytes / 1e6, m.frame_seconds, bytes / m.frame_seconds / 1e9,
