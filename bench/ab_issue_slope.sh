@@ -11,11 +11,10 @@
 set -euo pipefail
 old="$1"; new="$2"; rounds="${3:-8}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 # A build older than mesh.pattern rejects the scene's `pattern` key: it gets the scene as it was
 # (no pattern, EVS on), beside slope.geo so that the geometry's relative path holds.
 old_scene="$root/geometries/.slope-before-pattern-$$.toml"
-trap 'rm -rf "$work" "$old_scene"' EXIT
+work="$(mktemp -d)"; trap 'rm -rf "$work" "$old_scene"' EXIT
 sed -e '/^pattern *=/d' -e 's/^evs *= *false/evs = true/' "$root/geometries/slope.toml" > "$old_scene"
 for b in old new; do
   dir="$old"; [ "$b" = new ] && dir="$new"

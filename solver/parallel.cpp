@@ -144,14 +144,13 @@ bool waits_sleep() {
 ThreadPinning::ThreadPinning(int threads) : threads_(threads) {
   if (threads_ < 2 || omp_in_parallel() || std::getenv("OMP_PROC_BIND") || std::getenv("OMP_PLACES")) return;
   if (waits_sleep()) return;
-  cpu_set_t mask;
-  CPU_ZERO(&mask);
-  if (sched_getaffinity(0, sizeof mask, &mask) != 0) return;
+  CPU_ZERO(&mask_);
+  if (sched_getaffinity(0, sizeof mask_, &mask_) != 0) return;
   std::vector<int> cpus;
   for (int c = 0; c < CPU_SETSIZE; ++c)
-    if (CPU_ISSET(c, &mask)) cpus.push_back(c);
+    if (CPU_ISSET(c, &mask_)) cpus.push_back(c);
   if (static_cast<int>(cpus.size()) != threads_) return;
-  mask_.assign(reinterpret_cast<const unsigned char*>(&mask), reinterpret_cast<const unsigned char*>(&mask) + sizeof mask);
+  pinned_ = true;
   int failed = 0;
 #pragma omp parallel num_threads(threads_) reduction(+ : failed)
   {
@@ -164,12 +163,10 @@ ThreadPinning::ThreadPinning(int threads) : threads_(threads) {
 }
 
 void ThreadPinning::release() {
-  if (mask_.empty()) return;
-  cpu_set_t mask;
-  std::copy(mask_.begin(), mask_.end(), reinterpret_cast<unsigned char*>(&mask));
+  if (!pinned_) return;
 #pragma omp parallel num_threads(threads_)
-  pthread_setaffinity_np(pthread_self(), sizeof mask, &mask);
-  mask_.clear();
+  pthread_setaffinity_np(pthread_self(), sizeof mask_, &mask_);
+  pinned_ = false;
 }
 
 }  // namespace talus::solver

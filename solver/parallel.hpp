@@ -6,6 +6,7 @@
 // count, so the same thread count gives bit-identical results run after run.
 #pragma once
 #include <omp.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <atomic>
@@ -92,12 +93,13 @@ class ThreadPinning {
   ~ThreadPinning() { release(); }
   ThreadPinning(const ThreadPinning&) = delete;
   ThreadPinning& operator=(const ThreadPinning&) = delete;
-  bool pinned() const { return !mask_.empty(); }
+  bool pinned() const { return pinned_; }
 
  private:
   void release();  // every thread back to the mask it had
   int threads_ = 1;
-  std::vector<unsigned char> mask_;  // the cpu_set_t the threads had; empty: nothing pinned
+  bool pinned_ = false;
+  cpu_set_t mask_{};  // the mask the threads had, while pinned_
 };
 
 // Thread t's share [begin, end) of [0, n) when split into `threads` contiguous chunks.
