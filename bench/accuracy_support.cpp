@@ -7,7 +7,7 @@
 #include "accuracy.hpp"
 #include "bench_support.hpp"
 #include "common/error.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/postproc.hpp"
 #include "solver/solver.hpp"
 

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "common/error.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/results.hpp"
 #include "preproc/preproc.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 #include "postproc/validation.hpp"
 #include "solver/solver.hpp"
 

@@ -30,7 +30,7 @@
 #include <thread>
 #include <vector>
 
-#include "solver/parallel.hpp"
+#include "solver/parallel/threads.hpp"
 
 namespace {
 

@@ -18,10 +18,10 @@
 #include "bench_support.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/output.hpp"
 #include "postproc/postproc.hpp"
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {

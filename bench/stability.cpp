@@ -27,7 +27,7 @@
 #include "bench_support.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/output.hpp"
 #include "postproc/validation.hpp"
 #include "preproc/preproc.hpp"

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 
 namespace talus::bench::stability {
 

@@ -7,7 +7,7 @@
 #include "common/error.hpp"
 #include "common/geometry.hpp"
 #include "common/h5.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/output.hpp"
 #include "preproc/preproc.hpp"
 #include "stability.hpp"

@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "solver/parallel.hpp"
-#include "solver/results.hpp"
-#include "solver/simulation.hpp"
+#include "solver/parallel/threads.hpp"
+#include "solver/io/results.hpp"
+#include "solver/step/simulation.hpp"
 #include "solver/solver.hpp"
 #include "support/test_support.hpp"
 

@@ -13,7 +13,7 @@ struct Error : std::runtime_error {
 // An error every rank of a distributed solve throws alike, at the same point (a blow-up, a
 // particle leaving the domain, bad input all ranks read): the driver prints it on rank 0 only
 // and every rank exits with status 1. Any other Error in a distributed solve is one rank's, and
-// stops all ranks at once (solver/mpi.hpp, abort_all). With one rank it is a plain Error.
+// stops all ranks at once (solver/parallel/mpi.hpp, abort_all). With one rank it is a plain Error.
 struct SharedError : Error {
   using Error::Error;
 };

@@ -106,7 +106,7 @@ class Appendable {
   // that a large record is written piece by piece (write_rows) without a whole-record buffer.
   // allocate_early: the file space of new records is allocated as the dataset grows (extend),
   // not when they are written, and never filled: the parallel HDF5 can write only chunks that
-  // have their space (solver/results_parallel.hpp).
+  // have their space (solver/io/results_parallel.hpp).
   Appendable(const File& file, const std::string& path, const Dims& record, hid_t type = H5T_NATIVE_DOUBLE,
              hsize_t chunk_rows = 1, bool allocate_early = false, hsize_t record_chunk = 0);
   // An existing appendable dataset of `file` (opened for writing), cut back to its first

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang++ (-fsanitize=fuzzer,address), apart from the main
-# g++ build: common/*.cpp plus each fuzz/*_fuzzer.cpp, objects in OUT/obj, rebuilt when their
+# g++ build: every source of common/ (and its folders) plus each fuzz/*_fuzzer.cpp, objects in OUT/obj, rebuilt when their
 # source or a header of common/ is newer. toml++ is compiled header-only here, so that the
 # TOML parser is instrumented too. -DNDEBUG as in the Release build: the findings are those
 # of the program users run (toml++ 3.3 has internal assertions that fuzzing trips, see
@@ -22,18 +22,19 @@ fi
 # Objects built with other flags are stale too.
 if [ "$(cat "$out/obj/flags" 2>/dev/null)" != "${flags[*]}" ]; then rm -f "$out"/obj/*.o; fi
 echo "${flags[*]}" > "$out/obj/flags"
-newest_header="$(ls -t "$root"/common/*.hpp | head -1)"
+newest_header="$(find "$root/common" -name '*.hpp' -printf '%T@ %p\n' | sort -n | tail -1 | cut -d' ' -f2)"
 objects=()
 compile() {  # source object
   if [ ! -f "$2" ] || [ "$1" -nt "$2" ] || [ "$newest_header" -nt "$2" ]; then
     clang++ "${flags[@]}" -c "$1" -o "$2"
   fi
 }
-for source in "$root"/common/*.cpp; do
-  object="$out/obj/$(basename "$source" .cpp).o"
+while IFS= read -r source; do
+  relative="${source#"$root"/common/}"
+  object="$out/obj/${relative//\//_}"; object="${object%.cpp}.o"
   compile "$source" "$object" &
   objects+=("$object")
-done
+done < <(find "$root/common" -name '*.cpp' | sort)
 wait
 for fuzzer in scene_fuzzer model_fuzzer model_structure_fuzzer; do
   compile "$root/fuzz/$fuzzer.cpp" "$out/obj/$fuzzer.o"

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string path =

@@ -23,7 +23,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 
 namespace {
 

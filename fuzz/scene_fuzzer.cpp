@@ -9,7 +9,7 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <optional>
 
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/output.hpp"
 

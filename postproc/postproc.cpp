@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/analysed_slope.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/bishop_json.hpp"

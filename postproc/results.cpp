@@ -4,8 +4,8 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/model_checks.hpp"
-#include "common/model_io.hpp"
+#include "common/model/checks.hpp"
+#include "common/model/model_io.hpp"
 
 namespace talus::postproc {
 namespace {

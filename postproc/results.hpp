@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 
 namespace talus::postproc {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 #include "preproc/polygon.hpp"
 
 namespace talus::preproc {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "solver/domain.hpp"
+#include "solver/parallel/domain.hpp"
 
 namespace talus::solver {
 

@@ -6,11 +6,11 @@
 #include <csignal>
 #include <string>
 
-#include "common/model.hpp"
-#include "solver/checkpoint.hpp"
-#include "solver/results.hpp"
-#include "solver/results_parallel.hpp"
-#include "solver/time_loop.hpp"
+#include "common/model/model.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/io/results.hpp"
+#include "solver/io/results_parallel.hpp"
+#include "solver/step/time_loop.hpp"
 
 namespace talus::solver {
 

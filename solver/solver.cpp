@@ -14,12 +14,12 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "solver/checkpoint.hpp"
-#include "solver/domain.hpp"
-#include "solver/parallel.hpp"
-#include "solver/results.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/parallel/domain.hpp"
+#include "solver/parallel/threads.hpp"
+#include "solver/io/results.hpp"
 #include "solver/solve_observers.hpp"
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 
 namespace talus::solver {
 namespace {

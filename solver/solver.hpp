@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 
 namespace talus::solver {
 

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "common/error.hpp"
-#include "solver/time_loop.hpp"
+#include "solver/step/time_loop.hpp"
 
 namespace talus::solver {
 

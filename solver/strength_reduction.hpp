@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
-#include "solver/simulation.hpp"
+#include "common/model/model.hpp"
+#include "solver/step/simulation.hpp"
 
 namespace talus::solver {
 

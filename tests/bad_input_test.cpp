@@ -11,7 +11,7 @@
 #include <limits>
 
 #include "common/h5.hpp"
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 #include "support/bad_input_table.hpp"
 #include "support/test_support.hpp"
 

@@ -15,7 +15,7 @@
 #include "common/fingerprint.hpp"
 #include "common/geometry.hpp"
 #include "common/h5.hpp"
-#include "common/material.hpp"
+#include "common/materials/material.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {

@@ -11,9 +11,9 @@
 #include <map>
 
 #include "common/h5.hpp"
-#include "common/model.hpp"
-#include "solver/checkpoint.hpp"
-#include "solver/step.hpp"
+#include "common/model/model.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

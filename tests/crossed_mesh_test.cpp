@@ -16,8 +16,8 @@
 #include <sstream>
 #include <vector>
 
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
 #include "support/preproc_checks.hpp"
 #include "support/test_support.hpp"

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <future>
 
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <fstream>
 
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

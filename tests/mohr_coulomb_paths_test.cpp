@@ -1,7 +1,7 @@
-// Mohr-Coulomb return mapping (solver/mohr_coulomb.hpp) on known stress paths: plane strain
+// Mohr-Coulomb return mapping (common/materials/mohr_coulomb.hpp) on known stress paths: plane strain
 // Hooke, uniaxial compression, isotropic tension to the apex, the tension cut-off, rotation
 // invariance and refused parameters. Reference quantities: support/mohr_coulomb_reference.hpp.
-#include "solver/mohr_coulomb.hpp"
+#include "common/materials/mohr_coulomb.hpp"
 
 #include <gtest/gtest.h>
 

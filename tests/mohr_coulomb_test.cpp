@@ -1,9 +1,9 @@
-// Mohr-Coulomb return mapping (solver/mohr_coulomb.hpp) on random steps. The reference
+// Mohr-Coulomb return mapping (common/materials/mohr_coulomb.hpp) on random steps. The reference
 // quantities (principal stresses, f, the elastic stiffness, principal plastic strains) are
 // recomputed here and in support/mohr_coulomb_reference.hpp with Eigen's 3x3 eigen-solver,
 // independently of the closed forms in the material. Known stress paths and properties:
 // mohr_coulomb_paths_test.cpp.
-#include "solver/mohr_coulomb.hpp"
+#include "common/materials/mohr_coulomb.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The frames of a distributed solve written by every rank into the one results.h5 with the
-// parallel HDF5 (solver/results_parallel.hpp), through the talus binary: on 2 and 3 ranks the
+// parallel HDF5 (solver/io/results_parallel.hpp), through the talus binary: on 2 and 3 ranks the
 // file has exactly the objects, shapes and attributes of one rank's, its frames agree within
 // 1e-10 relative and results.xdmf is the same text; a write that fails on one rank leaves no
 // results behind and stops them all with one message. Skipped when the binary was built without

@@ -11,7 +11,7 @@
 #include "postproc/bishop.hpp"
 #include "postproc/slice_model.hpp"
 #include "postproc/slope_geometry.hpp"
-#include "solver/material.hpp"
+#include "solver/stress/material_state.hpp"
 #include "solver/strength_reduction.hpp"
 
 namespace talus::postproc {

@@ -11,8 +11,8 @@
 
 #include "common/error.hpp"
 #include "common/geometry.hpp"
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
 #include "preproc/seeding.hpp"
 #include "support/preproc_checks.hpp"

@@ -14,8 +14,8 @@
 #include <set>
 
 #include "common/error.hpp"
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/boundary_conditions.hpp"
 #include "preproc/polygon.hpp"
 #include "preproc/preproc.hpp"

@@ -9,7 +9,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "solver/results.hpp"
+#include "solver/io/results.hpp"
 #include "solver/solver.hpp"
 #include "support/test_support.hpp"
 
@@ -192,7 +192,7 @@ TEST(Results, ARunStoppedMidwayLeavesAReadableFileWithItsFrames) {
   EXPECT_EQ(h5::shape(file, "frames/position")[0], time.size());
 }
 
-// More particles than one piece of a frame (solver/results.hpp, kFrameBlock: the writer fills
+// More particles than one piece of a frame (solver/io/results.hpp, kFrameBlock: the writer fills
 // and writes a frame a block of particle ids at a time), in an order the solver changes (the
 // model's particles reversed, so that its sort reverses them back): every row lands on its
 // particle. Frame 0 has the model's positions and velocities row for row, the displacement is

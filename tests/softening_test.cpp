@@ -1,4 +1,4 @@
-// Strain softening of the Mohr-Coulomb material (solver/material.hpp, docs/water.md) at one
+// Strain softening of the Mohr-Coulomb material (solver/stress/material_state.hpp, docs/water.md) at one
 // material point, strength reduction of peak and residual alike, the element-size
 // regularisation (the undrained pore pressure: undrained_test.cpp).
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "solver/pore_pressure.hpp"
-#include "solver/step.hpp"
+#include "solver/stress/water.hpp"
+#include "solver/step/step.hpp"
 
 using namespace talus;
 using namespace talus::solver;

@@ -8,7 +8,7 @@
 
 #include <Eigen/Geometry>
 
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

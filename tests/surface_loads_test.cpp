@@ -12,10 +12,10 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/checkpoint.hpp"
-#include "solver/step.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/step/step.hpp"
 #include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 

@@ -1,4 +1,4 @@
-// The solver's thread contract and determinism (solver/parallel.hpp). ctest runs this file
+// The solver's thread contract and determinism (solver/parallel/threads.hpp). ctest runs this file
 // under OMP_NUM_THREADS=8 (tests/CMakeLists.txt); each test also sets OpenMP's count itself,
 // so that it means the same when run by hand. A simulation built for T threads runs T threads
 // whatever OpenMP's setting, and the same T gives bit-identical results run after run.
@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "solver/parallel.hpp"
-#include "solver/step.hpp"
+#include "solver/parallel/threads.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

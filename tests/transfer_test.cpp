@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "solver/checkpoint.hpp"
-#include "solver/step.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <fstream>
 
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/pore_pressure.hpp"
-#include "solver/step.hpp"
+#include "solver/stress/water.hpp"
+#include "solver/step/step.hpp"
 #include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 

@@ -12,7 +12,7 @@
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/figure_script.hpp"
 #include "preproc/estimate.hpp"
 #include "workflow/folder_lock.hpp"

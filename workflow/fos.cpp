@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/analysed_slope.hpp"
 #include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"

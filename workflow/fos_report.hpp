@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/failure_surface.hpp"
 #include "solver/strength_reduction.hpp"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solver/mpi.hpp"
+#include "solver/parallel/mpi.hpp"
 
 namespace fs = std::filesystem;
 

@@ -10,11 +10,11 @@
 #include <system_error>
 
 #include "common/error.hpp"
-#include "common/model.hpp"
+#include "common/model/model.hpp"
 #include "postproc/postproc.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/solver.hpp"
-#include "solver/mpi.hpp"
+#include "solver/parallel/mpi.hpp"
 #include "workflow/folder_lock.hpp"
 #include "workflow/launch.hpp"
 #include "workflow/stamps.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/scene.hpp"
+#include "common/scene/scene.hpp"
 
 namespace talus::workflow {
 

@@ -1,5 +1,5 @@
 // Reference quantities for the Mohr-Coulomb tests, recomputed with Eigen's 3x3 eigen-solver
-// independently of the closed forms in solver/mohr_coulomb.cpp, and the parameter sets and
+// independently of the closed forms in common/materials/mohr_coulomb.cpp, and the parameter sets and
 // random inputs the tests share.
 #pragma once
 #include <Eigen/Dense>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "solver/mohr_coulomb.hpp"
+#include "common/materials/mohr_coulomb.hpp"
 
 namespace talus::testing {
 

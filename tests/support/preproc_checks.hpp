@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "common/model.hpp"
-#include "common/scene.hpp"
+#include "common/model/model.hpp"
+#include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
 #include "support/test_support.hpp"
 

@@ -1,0 +1,247 @@
+// Frictional contact after Bardenhagen, Brackbill and Sulsky (2000), "The material-point method
+// for granular materials", CMAME 187, as summarised in the seed's appendix B and design.md,
+// with contact detected from the particles' surfaces rather than from shared nodes alone
+// (docs/contact.md).
+//
+// A "body" below is a velocity field: one body, or a group of bodies bonded by
+// [[contact.pairs]] bonded = true that share one field (Grids::field_index, docs/contact.md
+// "Bonded pairs"). Contact acts between fields; inside a group nothing slides or separates.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "solver/parallel/domain.hpp"
+#include "solver/step/step.hpp"
+
+namespace talus::solver {
+namespace {
+
+// The outward unit normal of every moving body at node i (zero for fixed bodies, and where
+// the gradients cancel), written to normal[b].
+//
+// sum_p m_p grad N_ip points from a body's particles towards the node: the body's outward
+// normal. One consistent normal per pair: b's outward normal minus the others' (which point
+// into b), so that the pair's two normals are opposite. Against a fixed support its face gives
+// the normal alone: a moving body's own normal tilts at its corners, where tangential sliding
+// would otherwise read as approach.
+void outward_normals(const ContactRules& rules, const Grids& grids, int32_t i, Vec2* normal) {
+  const std::size_t bodies = grids.fields.size();
+  bool rigid = false;
+  Vec2 gradient_sum = Vec2::Zero(), rigid_gradient = Vec2::Zero();
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const Grid& grid = grids.fields[b];
+    if (grid.m[i] <= 0) continue;
+    rigid = rigid || rules.field_fixed[b];
+    if (rules.field_fixed[b]) rigid_gradient += grid.mass_gradient[i];
+    gradient_sum += grid.mass_gradient[i];
+  }
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const Grid& grid = grids.fields[b];
+    normal[b].setZero();
+    if (grid.m[i] <= 0 || rules.field_fixed[b]) continue;
+    const Vec2 n = rigid ? Vec2(-rigid_gradient) : Vec2(grid.mass_gradient[i] - (gradient_sum - grid.mass_gradient[i]));
+    const double length = n.norm();
+    if (length > 0) normal[b] = n / length;
+  }
+}
+
+// Corrects the velocities `velocity(b)` of the bodies touching at the k-th contact node i
+// against the reference (their centre of mass, or zero where a fixed body is among them).
+// `on_change(b, delta)` receives each body's correction, already stripped of any component
+// the node's constraint forbids.
+template <class Velocity, class OnChange>
+void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, int32_t i, Velocity velocity,
+                  OnChange on_change) {
+  const std::size_t bodies = grids.fields.size();
+  const uint8_t* touching = &grids.touching[k * bodies];
+  const Vec2* normal = &grids.contact_normal[k * bodies];
+  bool rigid = false;
+  double m = 0;
+  Vec2 momentum = Vec2::Zero();
+  for (std::size_t b = 0; b < bodies; ++b) {
+    if (!touching[b]) continue;
+    if (rules.field_fixed[b]) {
+      rigid = true;
+      continue;
+    }
+    const Grid& grid = grids.fields[b];
+    m += grid.m[i];
+    momentum += grid.m[i] * velocity(b);
+  }
+  const Vec2 reference = rigid ? Vec2::Zero() : Vec2(momentum / m);
+
+  for (std::size_t b = 0; b < bodies; ++b) {
+    if (!touching[b] || rules.field_fixed[b]) continue;
+    const Vec2 dv = velocity(b) - reference;
+    const double approach = dv.dot(normal[b]);
+    if (approach <= 0) continue;  // separating: free
+    // Friction against the first other body touching at the node (pairs are per scene).
+    double mu = 0;
+    for (std::size_t c = 0; c < bodies; ++c)
+      if (c != b && touching[c]) {
+        mu = rules.pair_friction[b][c];
+        break;
+      }
+    const Vec2 tangential = dv - approach * normal[b];
+    const double slip = tangential.norm();
+    Vec2 delta;
+    if (slip <= mu * approach) delta = -dv;  // stick: move with the reference
+    else delta = -approach * normal[b] - mu * approach * tangential / slip;  // slide, Coulomb-limited
+    // The velocity before the correction obeys the node's constraint; the correction must too,
+    // or contact would push a body through a fixed or roller boundary.
+    constrain_change(rules.constraints, i, delta);
+    on_change(b, delta);
+  }
+}
+
+}  // namespace
+
+void find_contact_nodes(const ContactRules& rules, const Particles& P, const Stencil& S, Grids& grids,
+                        std::vector<int32_t>& contact_nodes, int threads, Domain* domain) {
+  const std::size_t bodies = grids.fields.size();
+  // Candidates: the nodes where two or more bodies have mass (serial: one look at each active
+  // node's body masses is small beside P2G).
+  contact_nodes.clear();
+  for (int32_t i : grids.active) {
+    int present = 0;
+    for (std::size_t b = 0; b < bodies && present < 2; ++b) present += grids.fields[b].m[i] > 0;
+    if (present >= 2) contact_nodes.push_back(i);
+  }
+  const std::size_t candidates = contact_nodes.size();
+  if (candidates == 0 && !domain) return;  // bodies apart: no particle pass (ranks still swap extents)
+
+  auto& slot = grids.contact_slot;
+  if (slot.size() != grids.fields[0].m.size()) slot.assign(grids.fields[0].m.size(), -1);
+  grids.contact_normal.resize(candidates * bodies);
+  for (std::size_t k = 0; k < candidates; ++k) {
+    slot[contact_nodes[k]] = static_cast<int32_t>(k);
+    outward_normals(rules, grids, contact_nodes[k], &grids.contact_normal[k * bodies]);
+  }
+
+  // Each body's extent along each moving body's normal at the candidates: how far body b
+  // reaches towards the others (its front, [b][b]), and where each other body c begins
+  // ([b][c]). A particle reaches half its size, sqrt(V_p) / 2, beyond its centre. Maxima and
+  // minima do not depend on the order of the threads.
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const std::size_t width = candidates * bodies * bodies;
+  grids.extents.resize(static_cast<std::size_t>(threads));
+  auto& runs = grids.fixed_runs;
+  if (runs.empty() || runs.back() != P.size() || runs.front() != P.moving_count) {
+    runs.clear();
+    for (std::size_t p = P.moving_count; p < P.size(); ++p)
+      if (p == P.moving_count || S.row[p] != S.row[p - 1]) runs.push_back(p);
+    runs.push_back(P.size());
+  }
+  const long moving = static_cast<long>(P.moving_count), fixed_runs = static_cast<long>(runs.size()) - 1;
+  with_width(S, [&](auto W) {
+    auto touches = [&](std::size_t p) {  // does p's stencil hold a candidate?
+      const int32_t* nodes = S.nodes(p);
+      bool any = false;
+      for (int j = 0; j < W; ++j) any = any || slot[nodes[j]] >= 0;
+      return any;
+    };
+    auto extend = [&](std::size_t p, std::vector<double>& extent) {
+      const int32_t* nodes = S.nodes(p);
+      const std::size_t c = static_cast<std::size_t>(grids.field_of(P.body[p]));
+      const double reach = 0.5 * std::sqrt(P.volume[p]);
+      for (int j = 0; j < W; ++j) {
+        const int32_t k = slot[nodes[j]];
+        if (k < 0) continue;
+        for (std::size_t b = 0; b < bodies; ++b) {
+          const Vec2& normal = grids.contact_normal[k * bodies + b];
+          if (normal.isZero()) continue;
+          const double along = P.x[p].dot(normal);
+          double& e = extent[(k * bodies + b) * bodies + c];
+          e = b == c ? std::max(e, along + reach) : std::min(e, along - reach);
+        }
+      }
+    };
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double>& extent = grids.extents[omp_get_thread_num()];
+    extent.resize(width);
+    for (std::size_t e = 0; e < width; e += bodies)
+      for (std::size_t c = 0; c < bodies; ++c) extent[e + c] = (e / bodies) % bodies == c ? -kInfinity : kInfinity;
+    int32_t last_row = -1;  // particles sorted by element mostly share their row with the one before
+    bool row_touches = false;
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < moving; ++p) {
+      if (S.row[p] != last_row) {
+        last_row = S.row[p];
+        row_touches = touches(p);
+      }
+      if (row_touches) extend(p, extent);
+    }
+#pragma omp for schedule(static)
+    for (long r = 0; r < fixed_runs; ++r)
+      if (touches(runs[r]))
+        for (std::size_t p = runs[r]; p < runs[r + 1]; ++p) extend(p, extent);
+  }
+  });
+
+  if (domain) exchange_contact_extents(*domain, contact_nodes, bodies, grids);
+
+  // Body b touches body c at a node when c begins before b's front ends along b's normal.
+  // A fixed body takes part where a moving body touches it.
+  grids.touching.assign(candidates * bodies, 0);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < candidates; ++k) {
+    slot[contact_nodes[k]] = -1;
+    uint8_t* touching = &grids.touching[kept * bodies];
+    bool any = false;
+    for (std::size_t b = 0; b < bodies; ++b) {
+      if (grids.contact_normal[k * bodies + b].isZero()) continue;
+      const std::size_t row = (k * bodies + b) * bodies;
+      double front = -kInfinity;
+      for (const auto& extent : grids.extents) front = std::max(front, extent[row + b]);
+      for (std::size_t c = 0; c < bodies; ++c) {
+        if (c == b) continue;
+        double begins = kInfinity;
+        for (const auto& extent : grids.extents) begins = std::min(begins, extent[row + c]);
+        if (begins <= front) touching[b] = touching[c] = 1, any = true;
+      }
+    }
+    if (!any) {
+      std::fill(touching, touching + bodies, 0);
+      continue;
+    }
+    for (std::size_t b = 0; b < bodies; ++b)
+      grids.contact_normal[kept * bodies + b] = grids.contact_normal[k * bodies + b];
+    contact_nodes[kept++] = contact_nodes[k];
+  }
+  contact_nodes.resize(kept);
+  grids.touching.resize(kept * bodies);
+}
+
+void apply_contact(const ContactRules& rules, double dt, const std::vector<int32_t>& nodes, Grids& grids,
+                   int threads) {
+  const long count = static_cast<long>(nodes.size());
+  if (count == 0) return;  // bodies apart: not even a thread team
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long k = 0; k < count; ++k) {
+    const int32_t i = nodes[k];
+    auto trial_velocity = [&](std::size_t b) -> Vec2 {
+      const Grid& grid = grids.fields[b];
+      return grid.p[i] / grid.m[i] + dt * grid.a[i];
+    };
+    correct_node(rules, grids, static_cast<std::size_t>(k), i, trial_velocity,
+                 [&](std::size_t b, const Vec2& delta) { grids.fields[b].a[i] += delta / dt; });
+  }
+}
+
+void apply_contact_velocities(const ContactRules& rules, const std::vector<int32_t>& nodes, Grids& grids,
+                              int threads) {
+  const long count = static_cast<long>(nodes.size());
+  if (count == 0) return;
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long k = 0; k < count; ++k) {
+    const int32_t i = nodes[k];
+    correct_node(rules, grids, static_cast<std::size_t>(k), i,
+                 [&](std::size_t b) -> Vec2 { return grids.fields[b].v[i]; },
+                 [&](std::size_t b, const Vec2& delta) { grids.fields[b].v[i] += delta; });
+  }
+}
+
+}  // namespace talus::solver

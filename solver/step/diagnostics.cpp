@@ -1,0 +1,105 @@
+// What the time loop and the outputs read off a simulation without changing it: gravity at a
+// time, the stable step, the energies, and the velocity that moves each particle.
+#include <cmath>
+
+#include "solver/parallel/mpi.hpp"
+#include "solver/parallel/threads.hpp"
+#include "solver/step/simulation.hpp"
+
+namespace talus::solver {
+
+double ramp_factor(double t, double T) {
+  if (t >= T) return 1;
+  return 0.5 * (1 - std::cos(M_PI * t / T));
+}
+
+Vec2 gravity_at(const Config& config, double t) {
+  if (t >= config.gravity_ramp) return config.gravity;
+  return ramp_factor(t, config.gravity_ramp) * config.gravity;
+}
+
+void load_factors(const Config& config, double t, std::vector<double>& factors) {
+  factors.resize(config.load_ramp.size());
+  for (std::size_t L = 0; L < factors.size(); ++L) factors[L] = ramp_factor(t, config.load_ramp[L]);
+}
+
+double stable_time_step(const Simulation& sim, double cfl) {
+  double wave_speed = 0;
+  for (const auto& material : sim.config.materials) wave_speed = std::max(wave_speed, material.wave_speed);
+  double max_speed_squared = 0;
+  const Particles& P = sim.particles;
+  const long n = static_cast<long>(P.moving_count);
+#pragma omp parallel for reduction(max : max_speed_squared) schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < n; ++p) max_speed_squared = std::max(max_speed_squared, P.v[p].squaredNorm());
+  double max_speed = std::sqrt(max_speed_squared);  // sqrt is monotone: the largest norm, exactly
+  if (sim.domain.distributed()) max_speed = mpi::max(max_speed);
+  return cfl * sim.config.mesh.h_min / (wave_speed + max_speed);  // (A.13)
+}
+
+namespace {
+
+struct ParticleEnergies {
+  double kinetic = 0, potential = 0, strain = 0;
+  ParticleEnergies& operator+=(const ParticleEnergies& o) {
+    kinetic += o.kinetic;
+    potential += o.potential;
+    strain += o.strain;
+    return *this;
+  }
+};
+
+}  // namespace
+
+Energies energies(const Simulation& sim) {
+  const Particles& P = sim.particles;
+  const Config& c = sim.config;
+  const int threads = c.threads;
+  const ParticleEnergies sums =
+      ordered_sum<ParticleEnergies>(static_cast<long>(P.moving_count), threads, [&](long p) {
+        return ParticleEnergies{0.5 * P.m[p] * P.v[p].squaredNorm(), -P.m[p] * c.gravity.dot(P.x[p]),
+                                P.volume[p] * elastic_energy_density(c.materials[c.material_of_body[P.body[p]]],
+                                                                     effective_stress(P, p))};
+      });
+  // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
+  // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they
+  // move nothing and would keep a deposit at rest from ever looking so.
+  // On several ranks a shared node counts on one of them only (Domain::counts).
+  double grid_kinetic = 0;
+  const Grids& grids = sim.scratch.grids;
+  const Domain& domain = sim.domain;
+  const long count = static_cast<long>(grids.active.size());
+  for (const Grid& grid : grids.fields)
+    grid_kinetic += ordered_sum<double>(count, threads, [&](long k) {
+      const int32_t i = grids.active[k];
+      return domain.counts(i) ? 0.5 * grid.m[i] * grid.v[i].squaredNorm() : 0.0;
+    });
+  if (!domain.distributed()) return {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+  double all[4] = {sums.kinetic, sums.potential, sums.strain, grid_kinetic};
+  mpi::sum_in_rank_order(all, 4);
+  return {all[0], all[1], all[2], all[3]};
+}
+
+Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
+  const Particles& P = sim.particles;
+  if (sim.steps == 0) return P.v[p];  // no grid field yet: the initial velocities
+  if (p >= P.moving_count) return Vec2::Zero();
+  const Stencil& S = sim.scratch.stencil;
+  const Grid& grid = sim.scratch.grids.fields[sim.scratch.grids.field_of(P.body[p])];
+  const double* N = S.weights(p);
+  const int32_t* nodes = S.nodes(p);
+  Vec2 velocity = Vec2::Zero();
+  for (int k = 0; k < S.width; ++k) velocity += N[k] * grid.v[nodes[k]];
+  return velocity;
+}
+
+std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
+  const Particles& P = sim.particles;
+  if (sim.steps == 0) return P.v;
+  std::vector<Vec2> velocity(P.size());
+  const long count = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < count; ++p) velocity[p] = grid_velocity_at_particle(sim, static_cast<std::size_t>(p));
+  return velocity;
+}
+
+}  // namespace talus::solver

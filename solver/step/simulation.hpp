@@ -1,0 +1,154 @@
+// One MPM run in memory: what the step reads but never changes (Config), the state it
+// advances (the particles, the time and the step count), and the scratch it reuses (Scratch).
+// `step()` (step.hpp) is the recipe over them; the time loop (time_loop.hpp) drives it.
+#pragma once
+#include <vector>
+
+#include "common/model/model.hpp"
+#include "solver/parallel/domain_state.hpp"
+#include "solver/interpolation/grid.hpp"
+#include "solver/stress/material_state.hpp"
+#include "solver/interpolation/mesh.hpp"
+#include "solver/step/particles.hpp"
+#include "solver/interpolation/stencil.hpp"
+
+namespace talus::solver {
+
+// Set up once from the model; read-only while stepping. (The strength-reduction workflow
+// changes materials, damping and the gravity ramp between runs, never within a step.)
+struct Config {
+  Mesh mesh;
+  Constraints constraints;
+  std::vector<MaterialState> materials;
+  std::vector<int32_t> material_of_body;
+  std::vector<uint8_t> body_fixed;
+  // Frictional contact between the groups of bonded bodies (a velocity field per group,
+  // Grids::field_index); off for one body, or when the scene bonds all bodies into one field.
+  bool contact = false;
+  std::vector<std::vector<double>> pair_friction;  // [field][field], Coulomb coefficient
+  std::vector<uint8_t> field_fixed;                // [field]: a fixed body's (contact only)
+
+  Vec2 gravity{0, -9.81};    // full gravity (m/s^2)
+  double gravity_ramp = 0;   // s; see RunSettings::gravity_ramp
+  double damping = 0;        // local (Cundall) damping coefficient
+  Transfer transfer = Transfer::Flip;  // grid to particle velocity update (docs/transfer.md)
+  double pic_fraction = 0;   // PicBlend only: share of the grid velocity in the particle velocity
+  int xpic_order = 1;        // Xpic only: m
+  bool evs = false;          // enhanced volumetric strain
+  // Mixed integration of the internal force (docs/transfer.md, "Mixed integration"): 0 off; else
+  // a cell is integrated as full where it and each cell across its edges are filled to this share.
+  double full_cell_fill = 0;
+  std::vector<double> initial_volume;  // m^2, by particle id: the cap on its growth (step.hpp)
+  WaterSettings water;       // the water table (water.enabled(): pore pressures, pore_pressure.cpp)
+  // Surface loads: per load, the time over which it rises (s, as gravity_ramp). The particles
+  // carry the forces (Particles::load, load_force).
+  std::vector<double> load_ramp;
+
+  int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
+};
+
+// Enhanced volumetric strain sums: per-thread element sums (added in thread order, so the
+// result does not depend on timing), their totals, and the node averages.
+struct EvsScratch {
+  std::vector<std::vector<double>> element_strain, element_volume;  // [thread][element]
+  std::vector<double> strain, volume;                               // [element]: strain is the cell average
+  std::vector<double> node_strain, node_area;                       // [node]
+  std::vector<double> node_mean;                                    // [node]: node_strain / node_area
+  // The elements around each node, in ascending order: those of node i are
+  // node_elements[node_first[i] .. node_first[i + 1]) (built with the mesh, evs_adjacency).
+  std::vector<int32_t> node_first, node_elements;
+};
+
+// Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by
+// the throughput benchmark); when it is null step() reads no clock.
+struct PhaseTimes {
+  enum Phase {
+    Mark, ToGrid, GridAcceleration, Contact, GridVelocity, ParticleVelocity, Remap, Kinematics, CellSums, Stresses,
+    Relocate, Count
+  };
+  static constexpr const char* kNames[Count] = {
+      "mark_active_nodes",          "particles_to_grid", "update_grid_accelerations", "contact",
+      "lagrangian/xpic velocities", "update_particle_velocities", "remap_grid_velocities",
+      "update_particle_kinematics", "sum_cells",                  "update_stresses",
+      "relocate_particles"};
+  double seconds[Count] = {};
+  long steps = 0;
+};
+
+// Reused every step; nothing in it carries over from one step to the next except the
+// stencil, which always matches the particles' current positions.
+struct Scratch {
+  Stencil stencil;
+  Grids grids;
+  ThreadBuffers buffers;             // [thread][field]
+  std::vector<int32_t> node_stamp;   // == stamp: node active this step
+  int32_t stamp = 0;
+  std::vector<Vec4> d_eps;           // this step's strain increment per particle
+  std::vector<int32_t> element_count;  // particles per element this step (sum_cells)
+  EvsScratch evs;
+  // Mixed integration only: per thread, the particle volume of each element; then per element
+  // the factor on its particles' V sigma in (A.8) (full_cell_scales).
+  std::vector<std::vector<double>> cell_volume;
+  std::vector<double> cell_scale;
+  std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
+  std::vector<double> load_factor;     // this step's ramp factor per surface load
+  PhaseTimes* phase_times = nullptr;   // not owned; null: no timing
+  // Problems found inside parallel loops, reported after them (-1: none).
+  long bad_particle = -1;   // a particle with a non-finite state (the largest index)
+  long lost_particle = -1;  // a particle that left the domain (the largest index)
+  bool failed_elsewhere = false;  // on several ranks: the step failed on another rank
+};
+
+struct Simulation {
+  Config config;
+  Particles particles;
+  double time = 0;  // s
+  long steps = 0;
+  long reorders = 0;  // times the particles were re-ordered (indices change then)
+  Scratch scratch;
+  Domain domain;  // this rank's share of a run on several MPI ranks (domain.hpp); one rank: empty
+};
+
+// Builds the simulation from a model: mesh geometry, constraints, materials, particles sorted
+// by element, the stencil, and buffers sized for `threads` threads (at least 1).
+Simulation make_simulation(const Model& model, int threads);
+// The same from a model its owner gives up: the particle columns move into the simulation
+// instead of being copied, and the model keeps none (release_particles), so that a large
+// model and its simulation are never both in memory. Its mesh, bodies and settings stay.
+Simulation make_simulation(Model&& model, int threads);
+// Frees the model's per-particle columns (particle_count() becomes 0).
+void release_particles(Model& model);
+
+// Re-sizes the per-thread buffers for another thread count (a copied simulation run on one
+// core, say). The physics is unchanged; sums may round differently.
+void set_threads(Simulation& sim, int threads);
+
+// Orders particles by (fixed body last, element) for memory locality, and recomputes the
+// stencil rows in the new order.
+void sort_particles(Simulation& sim);
+
+// The smooth ramp (1 - cos(pi t / T)) / 2 up to T, then 1 (T = 0: 1 from t = 0).
+double ramp_factor(double t, double T);
+// Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp.
+Vec2 gravity_at(const Config& config, double t);
+// Each surface load's ramp factor at time t, into `factors` (one per load).
+void load_factors(const Config& config, double t, std::vector<double>& factors);
+
+// The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
+double stable_time_step(const Simulation& sim, double cfl);
+
+struct Energies {
+  double kinetic = 0;       // of the particle (FLIP) velocities, J per m thickness
+  double potential = 0;     // -sum m_p g . x_p
+  double strain = 0;        // elastic strain energy
+  double grid_kinetic = 0;  // of the grid velocity field, the one that moves the material (A.12)
+};
+Energies energies(const Simulation& sim);
+
+// The grid velocity at each particle, sum N_ip v_i with the last step's remapped velocities:
+// the velocity that moves it (A.12), free of the FLIP components the grid cannot see.
+std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim);
+// The same at the solver's particle p alone (the results writer's frames, a block at a time).
+Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p);
+
+}  // namespace talus::solver

@@ -1,0 +1,89 @@
+#include "solver/step/time_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <Eigen/Geometry>
+#include <sstream>
+
+#include "solver/parallel/domain.hpp"
+#include "solver/step/step.hpp"
+
+namespace talus::solver {
+
+LoopEnd run_time_loop(Simulation& sim, double cfl, double end_time, const std::vector<Observer*>& observers) {
+  // Times within a billionth of the end time count as the end (a frame time summed from its
+  // interval lands there only to round-off).
+  const double tolerance = std::isfinite(end_time) ? 1e-9 * end_time : 0;
+  while (sim.time < end_time - tolerance) {
+    double dt = stable_time_step(sim, cfl);
+    if (!std::isfinite(dt) || dt <= 0) {
+      std::ostringstream why;
+      why << "non-finite time step at t = " << sim.time << " s";
+      return {LoopEnd::BadTimeStep, why.str()};
+    }
+    double landing = kNever;
+    for (const Observer* o : observers) landing = std::min(landing, o->next_landing(sim));
+    dt = std::min(dt, landing - sim.time);
+    if (!(dt > 0)) {  // an observer landing at or before now would make the loop spin in place
+      std::ostringstream why;
+      why << "no time step left at t = " << sim.time << " s: the next output or checkpoint time, " << landing
+          << " s, is not ahead of it";
+      return {LoopEnd::BadTimeStep, why.str()};
+    }
+    if (!step(sim, dt)) return {LoopEnd::StepFailed, ""};
+
+    bool energies_due = false;
+    for (const Observer* o : observers) energies_due = energies_due || o->wants_energies(sim);
+    const StepEvent event(sim, dt, energies_due);
+    for (Observer* o : observers) {
+      const Verdict verdict = o->after_step(sim, event);
+      if (verdict.kind == Verdict::Stop) return {LoopEnd::Stopped, verdict.reason, o};
+      if (verdict.kind == Verdict::Fail) return {LoopEnd::Failed, verdict.reason, o};
+    }
+  }
+  return {LoopEnd::EndTime, ""};
+}
+
+Verdict ParticleSorter::after_step(Simulation& sim, const StepEvent&) {
+  if (sim.steps % interval_ == 0) sort_particles(sim);
+  return Verdict::go_on();
+}
+
+double energy_budget(const Simulation& sim, const Energies& start) {
+  const Vec2& g = sim.config.gravity;
+  double lowest = kNever;
+  const Vec2 down = g.norm() > 0 ? Vec2(g.normalized()) : Vec2(0, -1);
+  for (const auto& x : sim.config.mesh.nodes) lowest = std::min(lowest, -down.dot(x));
+  double release = 0;
+  const Particles& P = sim.particles;
+  for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * g.norm() * (-down.dot(P.x[p]) - lowest);
+  // Surface loads: at most their full force over the width of the mesh each.
+  if (!P.load.empty()) {
+    Eigen::AlignedBox<double, 2> box;
+    for (const auto& x : sim.config.mesh.nodes) box.extend(x);
+    for (std::size_t p = 0; p < P.moving_count; ++p) release += P.load_force[p].norm() * box.diagonal().norm();
+  }
+  if (sim.domain.distributed()) release = mpi::sum_in_rank_order(release);
+  return start.kinetic + start.strain + release;
+}
+
+BlowUpBudget BlowUpBudget::starting_from(const Simulation& sim, const Energies& start) {
+  const double budget = energy_budget(sim, start);
+  // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
+  return BlowUpBudget(budget, 2 * budget + 1e-9 * std::abs(start.potential) + 1e-12);
+}
+
+bool BlowUpBudget::exceeded_by(const Energies& energy) const {
+  return !std::isfinite(energy.kinetic + energy.grid_kinetic) || std::max(energy.kinetic, energy.grid_kinetic) > limit_;
+}
+
+Verdict BlowUpBudget::after_step(Simulation& sim, const StepEvent& event) {
+  if (!event.energies_due || !exceeded_by(event.energies())) return Verdict::go_on();
+  std::ostringstream message;
+  message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: kinetic energy "
+          << event.energies().kinetic << " J/m exceeds the " << budget_
+          << " J/m that gravity and the initial state can supply (try a smaller run.cfl)";
+  return Verdict::fail(message.str());
+}
+
+}  // namespace talus::solver
