@@ -13,6 +13,7 @@
 #include "preproc/preproc.hpp"
 #include "solver/stress/water.hpp"
 #include "solver/step/step.hpp"
+#include "solver/stress/stress.hpp"
 #include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "solver/parallel/threads.hpp"
-#include "solver/step/step.hpp"
+#include "solver/stress/stress.hpp"
 
 namespace talus::solver {
 
