@@ -73,6 +73,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   read_contact(top, scene);
   read_post(top, scene);
   read_water(top, scene);
+  read_random(top, scene);
   top.finish();
 
   std::ostringstream canonical;

@@ -94,5 +94,6 @@ void read_loads(TableReader& top, Scene& scene);       // [loads.NAME]
 void read_contact(TableReader& top, Scene& scene);      // [contact], [[contact.pairs]], after the bodies
 void read_post(TableReader& top, Scene& scene);         // [post], after the bodies
 void read_water(TableReader& top, Scene& scene);        // [water] (common/scene_water.cpp)
+void read_random(TableReader& top, Scene& scene);       // [random.NAME], after the materials
 
 }  // namespace talus::scene_reader
