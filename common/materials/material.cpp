@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "common/error.hpp"
+#include "common/model/parameters.hpp"
 #include "common/range.hpp"
 
 namespace talus {
@@ -17,30 +18,34 @@ const char* const kParameters[] = {"density",           "youngs_modulus",       
 
 }  // namespace
 
-std::optional<MaterialProblem> parameter_problem(const Material& m, const std::string& key) {
-  auto in = [&](double x, NumberRange range) -> std::optional<MaterialProblem> {
-    if (range.contains(x)) return std::nullopt;
-    return MaterialProblem{key, range.problem(x)};
-  };
-  if (key == "density") return in(m.density, {0, kInf, false});
-  if (key == "youngs_modulus") return in(m.youngs_modulus, {0, kInf, false});
-  if (key == "poisson_ratio") return in(m.poisson_ratio, {0, 0.5, true, false});
-  if (key == "friction_angle") return in(m.friction_angle, {0, 90, true, false});
-  if (key == "cohesion") return in(m.cohesion, {0, kInf});
-  if (key == "dilation_angle") return in(m.dilation_angle, {0, m.friction_angle});
-  if (key == "tensile_strength") return in(m.tensile_strength, {-kInf, kInf});  // < 0: no cut-off
-  if (key == "saturated_density") return in(m.saturated_density, {0, kInf});      // 0: density
-  if (key == "porosity") return in(m.porosity, {0, 1, true, false});
-  if (key == "residual_cohesion") return in(m.residual_cohesion, {0, kInf});
-  if (key == "residual_friction_angle") return in(m.residual_friction_angle, {0, 90, true, false});
-  if (key == "residual_dilation_angle") return in(m.residual_dilation_angle, {0, m.residual_friction_angle});
-  if (key == "softening_start") return in(m.softening_start, {0, kInf});
-  if (key == "softening_end") {
-    if (m.softening_end == 0) return std::nullopt;  // no softening
-    return in(m.softening_end, {m.softening_start, kInf, false});
-  }
-  if (key == "softening_reference_size") return in(m.softening_reference_size, {0, kInf});
+NumberRange parameter_range(const Material& m, const std::string& key) {
+  if (key == "density") return {0, kInf, false};
+  if (key == "youngs_modulus") return {0, kInf, false};
+  if (key == "poisson_ratio") return {0, 0.5, true, false};
+  if (key == "friction_angle") return {0, 90, true, false};
+  if (key == "cohesion") return {0, kInf};
+  if (key == "dilation_angle") return {0, m.friction_angle};
+  if (key == "tensile_strength") return {-kInf, kInf};  // < 0: no cut-off
+  if (key == "saturated_density") return {0, kInf};     // 0: density
+  if (key == "porosity") return {0, 1, true, false};
+  if (key == "residual_cohesion") return {0, kInf};
+  if (key == "residual_friction_angle") return {0, 90, true, false};
+  if (key == "residual_dilation_angle") return {0, m.residual_friction_angle};
+  if (key == "softening_start") return {0, kInf};
+  if (key == "softening_end") return {m.softening_start, kInf, false};  // or 0: no softening
+  if (key == "softening_reference_size") return {0, kInf};
   throw Error("internal error: no material parameter '" + key + "'");
+}
+
+std::optional<MaterialProblem> parameter_problem(const Material& m, const std::string& key) {
+  const NumberRange range = parameter_range(m, key);
+  double x = 0;
+  for_each_material_parameter(m, [&](const char* name, double value) {
+    if (name == key) x = value;
+  });
+  if (key == "softening_end" && x == 0) return std::nullopt;  // no softening
+  if (range.contains(x)) return std::nullopt;
+  return MaterialProblem{key, range.problem(x)};
 }
 
 std::optional<MaterialProblem> material_problem(const Material& m) {

@@ -1,10 +1,11 @@
 // The one check of a material's parameters, used wherever a Material comes in: the scene
-// reader (common/scene_*.cpp), the model and results reader (common/model/model.cpp) and, as a guard,
+// reader (common/scene/*.cpp), the model and results reader (common/model/model.cpp) and, as a guard,
 // the Mohr-Coulomb constants (common/materials/mohr_coulomb.cpp).
 #pragma once
 #include <optional>
 #include <string>
 
+#include "common/range.hpp"
 #include "common/scene/scene.hpp"
 
 namespace talus {
@@ -22,6 +23,11 @@ struct MaterialProblem {
 // softening_reference_size >= 0. Every parameter is checked whatever the model (a linear elastic material keeps the
 // Mohr-Coulomb defaults, which are valid).
 std::optional<MaterialProblem> parameter_problem(const Material& m, const std::string& key);
+
+// The valid range of the parameter `key` of `m` (the range parameter_problem checks; it may
+// depend on another parameter of `m`: dilation_angle's upper end is friction_angle). For
+// softening_end the range excludes 0, which parameter_problem accepts as "no softening".
+NumberRange parameter_range(const Material& m, const std::string& key);
 
 // The first problem of `m`: the parameters in the order above, then the one rule across them,
 // a Mohr-Coulomb material needs friction_angle > 0 or cohesion > 0 (reported at "cohesion"), and
