@@ -15,6 +15,7 @@
 #include "workflow/fos.hpp"
 #include "workflow/launch.hpp"
 #include "workflow/pipeline.hpp"
+#include "workflow/ranks_link.hpp"
 
 using namespace talus;
 
@@ -69,7 +70,8 @@ Options:
   --help, -h        this text
 
 Exit status: 0 on success, 1 on bad input or a failed run, 2 on an internal
-error, 130 when stopped by SIGINT (Ctrl-C), 143 when stopped by SIGTERM.
+error, 130 when stopped by SIGINT (Ctrl-C), 143 when stopped by SIGTERM; with
+--ranks, 128 + N when a rank was killed by signal N.
 )";
 
 std::string require_input(const cli::Arguments& args, const char* what) {
@@ -194,15 +196,12 @@ void print_error(const std::string& message, bool name_rank) {
 }
 
 int one_rank_failed(int status) {
+  workflow::tell_ranks_driver_exit(status);  // before MPI_Abort: this rank has said why
   if (solver::mpi::distributed()) solver::mpi::abort_all(status);
   return status;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  solver::bound_openmp_spin(argv);
-  solver::mpi::init(&argc, &argv);
+int run_main(int argc, char** argv) {
   const bool speaks = solver::mpi::rank() == 0;
   try {
     const cli::Arguments args = cli::parse(argc, argv);
@@ -215,7 +214,8 @@ int main(int argc, char** argv) {
     print_error(e.what(), true);
     return one_rank_failed(1);
   } catch (const workflow::RanksFailed& e) {
-    return e.status;  // rank 0 has said why
+    if (!e.message.empty()) print_error(e.message, false);
+    return e.status;  // otherwise rank 0 has said why
   } catch (const solver::Interrupted& e) {
     if (speaks) std::cerr << "talus: " << e.what() << "\n";
     return 128 + e.signal;
@@ -229,4 +229,14 @@ int main(int argc, char** argv) {
     std::cerr << "talus: internal error: " << e << "\n";
     return 2;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  solver::bound_openmp_spin(argv);
+  solver::mpi::init(&argc, &argv);
+  const int status = run_main(argc, argv);
+  workflow::tell_ranks_driver_exit(status);
+  return status;
 }

@@ -23,6 +23,10 @@ class FolderLock {
   FolderLock(const FolderLock&) = delete;
   FolderLock& operator=(const FolderLock&) = delete;
 
+  // The descriptor of the lock this process holds on `folder` (the name it was taken by), -1
+  // when it holds none: a `--ranks` driver hands it to its ranks (workflow/ranks_link.hpp).
+  static int held_descriptor(const std::string& folder);
+
  private:
   void remove_if_left_empty();
 
