@@ -27,7 +27,7 @@ std::mutex made_mutex;
 std::map<std::string, std::string> made_folders;
 
 // The locks this process holds, by folder name.
-std::map<std::string, int> held_locks;
+std::map<std::string, FolderLock*> held_locks;
 
 std::string made_root(const std::string& folder) {
   const std::lock_guard<std::mutex> guard(made_mutex);
@@ -107,7 +107,7 @@ FolderLock::FolderLock(const std::string& folder)
   }
   {
     const std::lock_guard<std::mutex> guard(made_mutex);
-    held_locks[folder_] = fd_;
+    held_locks[folder_] = this;
   }
   const std::string text = holder_text() + "\n";
   // Who holds it is only for the message of a second writer: a failure here changes nothing.
@@ -135,7 +135,13 @@ void FolderLock::remove_if_left_empty() {
 int FolderLock::held_descriptor(const std::string& folder) {
   const std::lock_guard<std::mutex> guard(made_mutex);
   const auto it = held_locks.find(folder);
-  return it == held_locks.end() ? -1 : it->second;
+  return it == held_locks.end() ? -1 : it->second->fd_;
+}
+
+void FolderLock::release_all_after_fatal_error() {
+  // No lock taken here: the process is ending, and the thread that failed may hold it.
+  for (const auto& [folder, lock] : held_locks)
+    if (!lock->created_root_.empty()) lock->remove_if_left_empty();
 }
 
 FolderLock::~FolderLock() {

@@ -76,6 +76,10 @@ std::string scene_row(const fs::path& dir, const std::string& scene, const std::
   return "mesh " + write_file(dir / "block.toml", scene) + " " + extra;
 }
 
+CommandResult talus_with_limit(const std::string& limit, const std::string& args) {
+  return run_shell("ulimit " + limit + "; " + TALUS_BINARY + " " + args);
+}
+
 std::string scene_change(const fs::path& dir, const std::string& from, const std::string& to) {
   return scene_row(dir, replaced(kScene, from, to));
 }

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "support/test_support.hpp"
+
 namespace talus::testing {
 
 // A valid .geo (block.geo: a 2 x 1 block, its base, a tiny triangle "speck") and a valid scene
@@ -28,6 +30,10 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 // Writes block.geo and block.toml (`scene`) and returns "mesh block.toml EXTRA".
 std::string scene_row(const std::filesystem::path& dir, const std::string& scene, const std::string& extra = "");
 std::string scene_change(const std::filesystem::path& dir, const std::string& from, const std::string& to);
+
+// `talus ARGS` through sh under `ulimit LIMIT` ("-f 100": files of at most 100 blocks of 512
+// bytes; "-v 150000": an address space of 150,000 kB).
+CommandResult talus_with_limit(const std::string& limit, const std::string& args);
 
 // Runs every row through the binary in a scratch folder of its own and checks it.
 void expect_rows_fail_cleanly(const std::vector<Row>& rows);
