@@ -214,8 +214,17 @@ void check_steps(const Scene& scene, double h) {
     const Material& m = scene.materials[index];
     const double nu = m.poisson_ratio;
     const double wave_speed = std::sqrt(m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / m.density);
-    const double step = scene.run.cfl * 0.5 * h / wave_speed;
+    // A body thrown faster than its material's waves travel sets the step by its speed.
+    const double speed = body.fixed ? 0 : std::hypot(body.initial_velocity.x(), body.initial_velocity.y());
+    const double step = scene.run.cfl * 0.5 * h / (wave_speed + speed);
     const double steps = scene.run.end_time / step;
+    if (steps > kMaxSteps && speed > wave_speed)
+      throw Error(located(scene.path, "bodies." + body.name + ".initial_velocity",
+                          "a speed of " + number(speed) + " m/s at an element size of " + number(h) +
+                              " m gives a time step of about " + number(step) + " s: about " + number(steps) +
+                              " steps over run.end_time = " + number(scene.run.end_time) + " s, more than " +
+                              number(kMaxSteps) + " (lower the speed, shorten run.end_time, or set run.max_steps "
+                              "to run anyway)"));
     if (steps > kMaxSteps)
       throw Error(located(scene.path, "materials." + m.name + ".youngs_modulus",
                           "a wave speed of " + number(wave_speed) + " m/s at an element size of " + number(h) +

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/model/checks.hpp"
 
 namespace talus::preproc {
 
@@ -96,6 +97,14 @@ void check_table_below_ground(const WaterSettings& water, const std::vector<Eige
       throw Error(located(scene.path, "water.table", message.str()));
     }
   }
+}
+
+void check_initial_state(const Model& model, const Scene& scene) {
+  const auto problem = initial_state_problem(model);
+  if (!problem) return;
+  const Body& body = scene.bodies.at(static_cast<std::size_t>(model.body[problem->particle]));
+  const std::string key = "bodies." + body.name + (problem->speed ? ".initial_velocity" : ".initial_stress");
+  throw Error(located(scene.path, key, problem->message));
 }
 
 }  // namespace talus::preproc

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "common/model/model.hpp"
 #include "common/scene/scene.hpp"
 #include "preproc/polygon.hpp"
 
@@ -34,5 +35,10 @@ void check_water_table(const WaterSettings& water, const Region& domain, const S
 // checked (the table may run over empty parts of the domain).
 void check_table_below_ground(const WaterSettings& water, const std::vector<Eigen::Vector2d>& position,
                               const std::vector<double>& volume, const Scene& scene);
+
+// The particles' initial velocities and stresses within the bounds of initial_state_problem
+// (common/model/checks.hpp), checked on the built model (after its run settings are set): an
+// Error names the body's initial_velocity or initial_stress in the scene.
+void check_initial_state(const Model& model, const Scene& scene);
 
 }  // namespace talus::preproc

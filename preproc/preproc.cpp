@@ -149,6 +149,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.contact = scene.contact;
   model.post = scene.post;
   model.water = scene.water;
+  check_initial_state(model, scene);
 
   if (report) {
     const Clock::time_point done = Clock::now();

@@ -1,6 +1,8 @@
 #include "preproc/scene_groups.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -63,6 +65,58 @@ std::vector<std::array<int32_t, 2>> mesh_segments(const GeoMesh& geo, const Phys
   return segments;
 }
 
+// One edge of an outline, with its bounding box.
+struct OutlineEdge {
+  Eigen::Vector2d a, b;
+  Eigen::AlignedBox2d box;
+};
+
+std::vector<OutlineEdge> outline_edges(const std::vector<Loop>& loops) {
+  std::vector<OutlineEdge> edges;
+  for (const Loop& loop : loops)
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Eigen::Vector2d& a = loop[k];
+      const Eigen::Vector2d& b = loop[(k + 1) % loop.size()];
+      Eigen::AlignedBox2d box(a);
+      box.extend(b);
+      edges.push_back({a, b, box});
+    }
+  return edges;
+}
+
+// Where two edges cross: each has its ends on both sides of the other's line, farther from it
+// than `tolerance` (edges that meet at an end, touch, or run along each other do not cross; nor
+// do an outline and a domain meshed apart that follow one curve to round-off).
+std::optional<Eigen::Vector2d> crossing(const OutlineEdge& e, const OutlineEdge& f, double tolerance) {
+  auto side = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+    const Eigen::Vector2d d = b - a;
+    const double length = d.norm();
+    return length > 0 ? (d.x() * (p.y() - a.y()) - d.y() * (p.x() - a.x())) / length : 0.0;
+  };
+  const double fa = side(e.a, e.b, f.a), fb = side(e.a, e.b, f.b);
+  const double ea = side(f.a, f.b, e.a), eb = side(f.a, f.b, e.b);
+  const bool apart = std::min(std::abs(fa), std::abs(fb)) > tolerance && std::min(std::abs(ea), std::abs(eb)) > tolerance;
+  if (!apart || fa * fb >= 0 || ea * eb >= 0) return std::nullopt;
+  return e.a + (e.b - e.a) * (ea / (ea - eb));
+}
+
+// The first crossing of an edge of `first` with an edge of `second` (with a list and itself:
+// of two of its edges), scanning in order of the edges' lowest x.
+std::optional<Eigen::Vector2d> first_crossing(const std::vector<OutlineEdge>& first, const std::vector<OutlineEdge>& second,
+                                              double tolerance) {
+  std::vector<const OutlineEdge*> sorted;
+  for (const OutlineEdge& f : second) sorted.push_back(&f);
+  std::sort(sorted.begin(), sorted.end(),
+            [](const OutlineEdge* x, const OutlineEdge* y) { return x->box.min().x() < y->box.min().x(); });
+  for (const OutlineEdge& e : first)
+    for (const OutlineEdge* f : sorted) {
+      if (f->box.min().x() > e.box.max().x()) break;  // this one and all after it lie to the right
+      if (f == &e || !e.box.intersects(f->box)) continue;
+      if (const auto point = crossing(e, *f, tolerance)) return point;
+    }
+  return std::nullopt;
+}
+
 }  // namespace
 
 const PhysicalGroup& domain_group(const GeoMesh& geo, const Scene& scene) {
@@ -92,17 +146,33 @@ std::vector<Loop> body_loops(const GeoMesh& geo, const Body& body, const Scene& 
   return outline;
 }
 
-// Every vertex of the body's outline must be inside or on the background mesh (to a tolerance
-// relative to the domain's size, for outlines meshed apart from the domain).
 void check_inside_domain(const Region& body_region, const Region& domain, const Body& body, const Scene& scene) {
   const double tolerance = 1e-6 * domain.bounds().diagonal().norm();
+  const std::string item = "bodies." + body.name;
+  const std::string where = "physical surface \"" + scene.mesh.domain + "\" of " + scene.geometry;
   for (const auto& loop : body_region.loops())
     for (const auto& v : loop)
       if (!domain.covers(v) && domain.distance_to_boundary(v) > tolerance)
-        throw Error(located(scene.path, "bodies." + body.name,
-                            "lies outside the domain (physical surface \"" + scene.mesh.domain + "\" of " +
-                                scene.geometry + "): its outline point " + point_text(v) +
+        throw Error(located(scene.path, item,
+                            "lies outside the domain (" + where + "): its outline point " + point_text(v) +
                                 " is not on the background mesh"));
+  const std::vector<OutlineEdge> edges = outline_edges(body_region.loops());
+  auto reaches_out = [&](const Eigen::Vector2d& point) {
+    throw Error(located(scene.path, item,
+                        "the outline of the body crosses the edge of the domain (" + where + ") at " +
+                            point_text(point) +
+                            ": the body reaches into a hole of the domain or out of it, where no mesh is"));
+  };
+  // An edge that crosses the domain's edge through one of its vertices: its middle is off the mesh.
+  for (const OutlineEdge& e : edges) {
+    const Eigen::Vector2d middle = 0.5 * (e.a + e.b);
+    if (!domain.covers(middle) && domain.distance_to_boundary(middle) > tolerance) reaches_out(middle);
+  }
+  if (const auto crossing = first_crossing(edges, edges, tolerance))
+    throw Error(located(scene.path, item,
+                        "the outline of the body crosses itself at " + point_text(*crossing) +
+                            " (a bow-tie outline bounds no region: draw it as loops that do not cross)"));
+  if (const auto crossing = first_crossing(edges, outline_edges(domain.loops()), tolerance)) reaches_out(*crossing);
 }
 
 std::vector<int32_t> node_set(const GeoMesh& geo, const PhysicalGroup& curve, const BackgroundMesh& mesh) {

@@ -22,7 +22,10 @@ const PhysicalGroup& domain_group(const GeoMesh& geo, const Scene& scene);
 // The outline of a body as closed loops of points (an Error when it does not close).
 std::vector<Loop> body_loops(const GeoMesh& geo, const Body& body, const Scene& scene);
 
-// Every vertex of the body's outline must be inside or on the background mesh.
+// Every vertex of the body's outline must be inside or on the background mesh (to a tolerance
+// relative to the domain's size, for outlines meshed apart from the domain), and no edge of it may
+// cross another edge of it (a bow tie) or an edge of the domain (into a hole of the domain, or
+// out of it between two vertices).
 void check_inside_domain(const Region& body_region, const Region& domain, const Body& body, const Scene& scene);
 
 // A physical curve's nodes on the background mesh (its node set in model.h5).

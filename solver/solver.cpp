@@ -107,6 +107,12 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       rank_frames.emplace(model, (std::filesystem::path(options.out_dir) / "results.h5").string());
   };
   const std::string checkpoint = checkpoint_path(options.out_dir);
+  on_root([&] {
+    // What a checkpoint write that was killed left (it is written to NAME.tmp and renamed): this
+    // solve holds the folder's lock, so no one else is writing it.
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint + ".tmp", ignored);
+  });
   if (options.restart) {
     shared([&] {
       sim = make_simulation(model, threads.threads);

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "common/h5.hpp"
+#include "support/bad_input_table.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -284,6 +285,25 @@ TEST_F(Mpi, ARankKilledByASignalIsNamed) {
             std::string::npos)
       << log;
   EXPECT_EQ(log.find("internal error"), std::string::npos) << log;
+}
+
+// An absurd initial state in a model (issue 43, item 4): on 2 ranks a generic blow-up before;
+// now the message of one rank, naming the dataset, once.
+TEST_F(Mpi, AnAbsurdInitialVelocityGivesOneRanksMessageOnTwo) {
+  const ScratchDir dir("mpi-initial-state");
+  const std::string solve = testing::meshed_model_row(dir.path(), [](const h5::File& f) {
+    h5::Dims dims;
+    std::vector<double> velocity = h5::read_doubles(f, "particles/velocity", &dims);
+    velocity[0] = 1e308;
+    h5::write(f, "particles/velocity", velocity, dims);
+  });
+  const auto one = run_talus(solve + " --threads 1 --quiet --out " + dir.file("one"));
+  const auto two = run_talus(solve + " --threads 1 --quiet --ranks 2 --out " + dir.file("two"));
+  EXPECT_EQ(one.status, 1) << one.output;
+  EXPECT_EQ(two.status, 1) << two.output;
+  EXPECT_NE(one.output.find("model.h5: particles/velocity: particle 0 moves at 1e+308 m/s"), std::string::npos)
+      << one.output;
+  EXPECT_EQ(two.output, one.output);
 }
 
 TEST(MpiOptions, RanksIsRefusedWhereNothingSolves) {

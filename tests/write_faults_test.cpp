@@ -110,5 +110,28 @@ TEST(WriteFaults, ResultsDeletedDuringASolveStopIt) {
   EXPECT_FALSE(fs::exists(out / "results.xdmf"));
 }
 
+// A checkpoint write that was killed leaves checkpoint.h5.tmp; before issue 43 a restart (and a
+// fresh solve) left it there for good. The solve holds the folder's lock, so it removes it.
+TEST(WriteFaults, AStaleCheckpointTemporaryIsRemovedBySolveAndRestart) {
+  ScratchDir dir("write-faults-stale-checkpoint");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(
+      dir.path(), testing::replaced(testing::replaced(testing::kScene, "end_time = 0.01", "end_time = 100.0\nmax_steps = 3000"),
+                                    "gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]"));
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  const std::string model = (out / "model.h5").string(), stale = (out / "checkpoint.h5.tmp").string();
+  testing::write_file(stale, "half a checkpoint");
+  const auto stopped = run_shell("( " + std::string(TALUS_BINARY) + " solve " + model +
+                                 " -q --checkpoint-interval 0.001 & pid=$!; for i in $(seq 1 3000); do [ -f '" +
+                                 (out / "checkpoint.h5").string() + "' ] && break; sleep 0.01; done; kill -TERM $pid; "
+                                 "wait $pid; echo status=$? )");
+  ASSERT_NE(stopped.output.find("status=143"), std::string::npos) << stopped.output;
+  EXPECT_FALSE(fs::exists(stale)) << "left by a fresh solve";
+  testing::write_file(stale, "half a checkpoint");
+  const auto restarted = testing::run_talus("solve " + model + " -q --restart");
+  EXPECT_EQ(restarted.status, 0) << restarted.output;
+  EXPECT_FALSE(fs::exists(stale)) << "left by a restart";
+}
+
 }  // namespace
 }  // namespace talus

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/h5.hpp"
 #include "support/test_support.hpp"
 
 namespace talus::testing {
@@ -30,6 +31,15 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 // Writes block.geo and block.toml (`scene`) and returns "mesh block.toml EXTRA".
 std::string scene_row(const std::filesystem::path& dir, const std::string& scene, const std::string& extra = "");
 std::string scene_change(const std::filesystem::path& dir, const std::string& from, const std::string& to);
+// `scene` (the base scene by default) with `geo` for its .geo, as evil.geo beside it.
+std::string geo_row(const std::filesystem::path& dir, const std::string& geo, const std::string& scene = kScene);
+// The base scene meshed by talus into DIR/m, its model.h5 changed by `change`: returns
+// "solve DIR/m/model.h5 OPTIONS".
+std::string meshed_model_row(const std::filesystem::path& dir, const std::function<void(const h5::File&)>& change,
+                             const std::string& options = "");
+// The base scene meshed and solved by talus into DIR/m, its results.h5 changed by `change`:
+// returns "post DIR/m/results.h5".
+std::string solved_results_row(const std::filesystem::path& dir, const std::function<void(const h5::File&)>& change);
 
 // `talus ARGS` through sh under `ulimit LIMIT` ("-f 100": files of at most 100 blocks of 512
 // bytes; "-v 150000": an address space of 150,000 kB).
