@@ -99,33 +99,34 @@ workflow::StageOptions stage_options(const cli::Arguments& args) {
   return options;
 }
 
-workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
-  if (args.positional.size() != 1) throw Error("converge: expected one scene file (see talus --help)");
-  if (!args.flags.empty()) throw Error("converge: unknown option '" + args.flags.front() + "' (see talus --help)");
-  if (args.restart || args.checkpoint_interval)
-    throw Error("--checkpoint-interval and --restart belong to solve or run, not converge");
-  if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
-  workflow::ConvergeOptions options;
+// What the studies of a scene (converge, fos) take alike: one scene file, --set, --out,
+// --threads, --quiet.
+template <class Options>
+Options scene_study_options(const cli::Arguments& args, const std::string& command) {
+  if (args.positional.size() != 1) throw Error(command + ": expected one scene file (see talus --help)");
+  if (!args.flags.empty()) throw Error(command + ": unknown option '" + args.flags.front() + "' (see talus --help)");
+  Options options;
   options.scene_path = args.positional.front();
   options.overrides = args.overrides;
   options.out = args.out;
   options.threads = args.threads;
   options.quiet = args.quiet;
+  return options;
+}
+
+workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
+  auto options = scene_study_options<workflow::ConvergeOptions>(args, "converge");
+  if (args.restart || args.checkpoint_interval)
+    throw Error("--checkpoint-interval and --restart belong to solve or run, not converge");
+  if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
   if (args.levels) options.levels = *args.levels;
   if (args.ratio) options.ratio = *args.ratio;
   return options;
 }
 
 workflow::FosOptions fos_options(const cli::Arguments& args) {
-  if (args.positional.size() != 1) throw Error("fos: expected one scene file (see talus --help)");
-  if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
-  workflow::FosOptions options;
-  options.scene_path = args.positional.front();
-  options.overrides = args.overrides;
-  options.out = args.out;
-  options.threads = args.threads;
+  auto options = scene_study_options<workflow::FosOptions>(args, "fos");
   options.tolerance = args.tolerance;
-  options.quiet = args.quiet;
   return options;
 }
 
