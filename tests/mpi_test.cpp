@@ -189,28 +189,29 @@ TEST_F(Mpi, MixedIntegrationIsRefusedOnSeveralRanksWithOneMessage) {
 // ---- Faults of `--ranks` (issue 43): a killed driver, a killed rank ------------------------
 
 // A shell script that starts `talus solve MODEL --ranks 2` into OUT in the background (its output
-// in OUT.log), waits until both ranks have joined it (their pids in the lock file) and written the
-// first frame, and then runs
-// `body` with $T, $driver, $ranks (rank 0's pid first), $mpirun and the helpers `alive PIDS`,
-// `gone PIDS` (waits up to 30 s for them to end: "gone" or "alive") and `ends` (prints
-// ranks=gone and lock=free when the ranks have ended and released the lock); whatever it
-// started is killed when the script ends.
+// in OUT.log), waits until its ranks run (found as mpirun's children, rank 0's pid first) and
+// have written the first frame, and then runs `body` with $T, $driver, $mpirun, $ranks and the
+// helpers `alive PIDS`, `gone PIDS` (waits up to 30 s for them to end: "gone" or "alive"),
+// `ends` (prints ranks=gone and lock=free when the ranks have ended and released the lock) and
+// `finish` (waits up to 60 s for the driver and prints its status=). Whatever it started is
+// killed when the script ends, whether or not the ranks ever ran.
 std::string ranks_script(const std::string& model, const std::string& out, const std::string& body) {
   return "exec 2>&1; T=" + std::string(TALUS_BINARY) + "; out=" + out + "; model=" + model + "\n" +
          "$T solve $model --ranks 2 --threads 1 -q --out $out > $out.log 2>&1 & driver=$!\n"
-         "for i in $(seq 1 1200); do grep -q 'MPI ranks: pid [0-9]*, pid [0-9]*' $out/.talus.lock 2>/dev/null && "
-         "break; sleep 0.05; done\n"
-         "ranks=''; for p in $(grep -o 'MPI ranks: .*' $out/.talus.lock | grep -o '[0-9][0-9]*'); do\n"
-         "  if tr '\\0' '\\n' < /proc/$p/environ | grep -qx OMPI_COMM_WORLD_RANK=0; then ranks=\"$p $ranks\"; "
-         "else ranks=\"$ranks $p\"; fi; done\n"
-         "mpirun=$(ps -o ppid= -p $(echo $ranks | cut -d' ' -f1) | tr -d ' ')\n"
+         "for i in $(seq 1 600); do mpirun=$(ps -o pid= --ppid $driver | tr -d ' '); [ -n \"$mpirun\" ] && break; "
+         "sleep 0.05; done\n"
+         "trap 'kill -9 $driver $mpirun $(ps -o pid= --ppid $mpirun) 2>/dev/null' EXIT\n"
          // the first frame written: every rank is in the solve, where SIGTERM stops after a step
          "for i in $(seq 1 1200); do [ -f $out/results.xdmf ] && break; sleep 0.05; done\n"
-         "trap 'kill -9 $driver $ranks $mpirun 2>/dev/null' EXIT\n"
+         "ranks=''; for p in $(ps -o pid= --ppid $mpirun); do\n"
+         "  if tr '\\0' '\\n' < /proc/$p/environ | grep -qx OMPI_COMM_WORLD_RANK=0; then ranks=\"$p $ranks\"; "
+         "else ranks=\"$ranks $p\"; fi; done\n"
          "alive() { for p in \"$@\"; do s=$(cut -d' ' -f3 /proc/$p/stat 2>/dev/null); [ -n \"$s\" ] && [ \"$s\" != Z ] && "
          "return 0; done; return 1; }\n"
          "gone() { for i in $(seq 1 600); do alive \"$@\" || { echo gone; return; }; sleep 0.05; done; echo alive; }\n"
          "ends() { echo ranks=$(gone $ranks); flock -n $out/.talus.lock true && echo lock=free; }\n"
+         "finish() { i=0; while alive $driver && [ $i -lt 1200 ]; do sleep 0.05; i=$((i + 1)); done; "
+         "kill -9 $driver 2>/dev/null; wait $driver; echo status=$?; }\n"
          "echo ranks=$ranks\n" +
          body;
 }
@@ -271,7 +272,7 @@ TEST_F(Mpi, ARankKilledByASignalIsNamed) {
   const ScratchDir dir("mpi-killed-rank");
   const auto result = ranks_fault(dir,
                                   "set -- $ranks; victim=$2; echo victim=$victim\n"
-                                  "kill -9 $victim; wait $driver; echo status=$?\n"
+                                  "kill -9 $victim; finish\n"
                                   "echo left=$(gone $ranks $mpirun)\n");
   const std::string out = dir.file("out");
   const auto at = result.output.find("victim=");
