@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "common/error.hpp"
+#include "solver/parallel/threads.hpp"
 
 namespace talus::cli {
 
@@ -59,11 +60,10 @@ Arguments parse(int argc, char** argv) {
       if (args.threads < 1) throw Error("--threads: expected a positive integer, got '" + text + "'");
       // Each thread holds a grid buffer of its own: far more threads than cores only costs memory.
       const int cores = static_cast<int>(std::thread::hardware_concurrency());
-      const int most = cores > 0 ? std::min(4 * cores, kMaxThreads) : kMaxThreads;
-      if (args.threads > most)
-        throw Error("--threads: got '" + text + "', at most " + std::to_string(most) + " (4 x the " +
+      if (args.threads > solver::thread_cap())
+        throw Error("--threads: got '" + text + "', at most " + std::to_string(solver::thread_cap()) + " (4 x the " +
                     std::to_string(cores) + " hardware threads of this machine, never above " +
-                    std::to_string(kMaxThreads) + ")");
+                    std::to_string(solver::kMaxThreads) + ")");
     } else if (name == "--ranks") {
       std::string text;
       args.ranks = integer_of(i, name, text);

@@ -7,8 +7,6 @@
 
 namespace talus::cli {
 
-// --threads is at most 4 x the machine's hardware threads, and never above this.
-constexpr int kMaxThreads = 1024;
 // --ranks is at most this (all on this machine: mpirun --oversubscribe).
 constexpr int kMaxRanks = 256;
 

@@ -2,8 +2,12 @@
 // their chain (run) or the factor of safety (fos); see `talus --help`. This file parses the
 // command line and calls the workflow library (workflow/pipeline.hpp, workflow/fos.hpp).
 #include <omp.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <exception>
 #include <iostream>
+#include <new>
 
 #include "app/cli.hpp"
 #include "common/error.hpp"
@@ -11,9 +15,11 @@
 #include "solver/parallel/parallel.hpp"
 #include "solver/solver.hpp"
 #include "workflow/converge.hpp"
+#include "workflow/folder_lock.hpp"
 #include "workflow/fos.hpp"
 #include "workflow/launch.hpp"
 #include "workflow/pipeline.hpp"
+#include "workflow/ranks_link.hpp"
 
 using namespace talus;
 
@@ -68,7 +74,8 @@ Options:
   --help, -h        this text
 
 Exit status: 0 on success, 1 on bad input or a failed run, 2 on an internal
-error, 130 when stopped by SIGINT (Ctrl-C), 143 when stopped by SIGTERM.
+error, 3 when memory ran out, 130 when stopped by SIGINT (Ctrl-C), 143 when
+stopped by SIGTERM; with --ranks, 128 + N when a rank was killed by signal N.
 )";
 
 std::string require_input(const cli::Arguments& args, const char* what) {
@@ -91,33 +98,34 @@ workflow::StageOptions stage_options(const cli::Arguments& args) {
   return options;
 }
 
-workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
-  if (args.positional.size() != 1) throw Error("converge: expected one scene file (see talus --help)");
-  if (!args.flags.empty()) throw Error("converge: unknown option '" + args.flags.front() + "' (see talus --help)");
-  if (args.restart || args.checkpoint_interval)
-    throw Error("--checkpoint-interval and --restart belong to solve or run, not converge");
-  if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
-  workflow::ConvergeOptions options;
+// What the studies of a scene (converge, fos) take alike: one scene file, --set, --out,
+// --threads, --quiet.
+template <class Options>
+Options scene_study_options(const cli::Arguments& args, const std::string& command) {
+  if (args.positional.size() != 1) throw Error(command + ": expected one scene file (see talus --help)");
+  if (!args.flags.empty()) throw Error(command + ": unknown option '" + args.flags.front() + "' (see talus --help)");
+  Options options;
   options.scene_path = args.positional.front();
   options.overrides = args.overrides;
   options.out = args.out;
   options.threads = args.threads;
   options.quiet = args.quiet;
+  return options;
+}
+
+workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
+  auto options = scene_study_options<workflow::ConvergeOptions>(args, "converge");
+  if (args.restart || args.checkpoint_interval)
+    throw Error("--checkpoint-interval and --restart belong to solve or run, not converge");
+  if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
   if (args.levels) options.levels = *args.levels;
   if (args.ratio) options.ratio = *args.ratio;
   return options;
 }
 
 workflow::FosOptions fos_options(const cli::Arguments& args) {
-  if (args.positional.size() != 1) throw Error("fos: expected one scene file (see talus --help)");
-  if (!args.flags.empty()) throw Error("fos: unknown option '" + args.flags.front() + "' (see talus --help)");
-  workflow::FosOptions options;
-  options.scene_path = args.positional.front();
-  options.overrides = args.overrides;
-  options.out = args.out;
-  options.threads = args.threads;
+  auto options = scene_study_options<workflow::FosOptions>(args, "fos");
   options.tolerance = args.tolerance;
-  options.quiet = args.quiet;
   return options;
 }
 
@@ -193,20 +201,62 @@ void print_error(const std::string& message, bool name_rank) {
 }
 
 int one_rank_failed(int status) {
+  workflow::tell_ranks_driver_exit(status);  // before MPI_Abort: this rank has said why
   if (solver::mpi::distributed()) solver::mpi::abort_all(status);
   return status;
 }
 
-}  // namespace
+// Memory ran out: one message, exit status 3 (docs/robustness.md).
+constexpr int kOutOfMemoryStatus = 3;
 
-int main(int argc, char** argv) {
-  solver::bound_openmp_spin(argv);
-  solver::mpi::init(&argc, &argv);
+std::string out_of_memory_message(const std::string& command) {
+  return "out of memory" + (command.empty() ? std::string() : " in talus " + command) +
+         " (std::bad_alloc): the machine, or a limit on this process (ulimit -v, a cgroup), gave less than it "
+         "needs; free memory, raise the limit, or mesh coarser (a larger mesh.size)";
+}
+
+// The command being run, for the messages of a fault that no handler sees (below).
+std::string running_command;
+
+// An exception that leaves an OpenMP region (gmsh meshes in them; so does the solver) cannot be
+// caught: std::terminate is called. Out of memory and gmsh's errors still get one message.
+[[noreturn]] void on_terminate() {
+  std::string message = "internal error: terminated";
+  int status = 2;
+  if (const std::exception_ptr current = std::current_exception()) {
+    try {
+      std::rethrow_exception(current);
+    } catch (const std::bad_alloc&) {
+      message = "error: " + out_of_memory_message(running_command);
+      status = kOutOfMemoryStatus;
+    } catch (const std::string& text) {  // gmsh 4.8's errors
+      message = "error: gmsh failed in a parallel region (talus " + running_command + "): " + text;
+      status = 1;
+    } catch (const std::exception& e) {
+      message = std::string("internal error: ") + e.what();
+    } catch (...) {
+    }
+  }
+  const std::string line = "talus: " + message.substr(0, 4000) + "\n";
+  [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, line.data(), line.size());
+  workflow::FolderLock::release_all_after_fatal_error();
+  workflow::tell_ranks_driver_exit(status);
+  _exit(status);
+}
+
+int run_main(int argc, char** argv) {
   const bool speaks = solver::mpi::rank() == 0;
   try {
     const cli::Arguments args = cli::parse(argc, argv);
+    running_command = args.command;
     if (args.threads > 0) omp_set_num_threads(args.threads);
     return run_command(args);
+  } catch (const solver::OutOfMemory& e) {
+    print_error(e.what(), true);
+    return one_rank_failed(kOutOfMemoryStatus);
+  } catch (const std::bad_alloc&) {
+    print_error(out_of_memory_message(running_command), true);
+    return one_rank_failed(kOutOfMemoryStatus);
   } catch (const SharedError& e) {
     if (speaks) print_error(e.what(), false);
     return 1;
@@ -214,7 +264,8 @@ int main(int argc, char** argv) {
     print_error(e.what(), true);
     return one_rank_failed(1);
   } catch (const workflow::RanksFailed& e) {
-    return e.status;  // rank 0 has said why
+    if (!e.message.empty()) print_error(e.message, false);
+    return e.status;  // otherwise rank 0 has said why
   } catch (const solver::Interrupted& e) {
     if (speaks) std::cerr << "talus: " << e.what() << "\n";
     return 128 + e.signal;
@@ -228,4 +279,19 @@ int main(int argc, char** argv) {
     std::cerr << "talus: internal error: " << e << "\n";
     return 2;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::set_terminate(on_terminate);
+  // A file size limit (ulimit -f) fails the write (EFBIG), which names the file and removes the
+  // temporary one, instead of killing the process (SIGXFSZ).
+  signal(SIGXFSZ, SIG_IGN);
+  solver::bound_openmp_spin(argv);
+  solver::bound_openmp_threads();
+  solver::mpi::init(&argc, &argv);
+  const int status = run_main(argc, argv);
+  workflow::tell_ranks_driver_exit(status);
+  return status;
 }

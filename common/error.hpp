@@ -18,7 +18,12 @@ struct SharedError : Error {
   using Error::Error;
 };
 
-// "file: item: message", leaving out the parts that are empty.
+// `text` with its control characters shown as \xNN (a newline as \x0a): input quoted in a
+// message stays on its line.
+std::string escaped(const std::string& text);
+
+// "file: item: message", leaving out the parts that are empty; control characters in the file and
+// the item (which come from input) are shown as \xNN.
 std::string located(const std::string& file, const std::string& item, const std::string& message);
 
 }  // namespace talus

@@ -1,6 +1,7 @@
 // Plane geometry shared by the stages.
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 namespace talus {
@@ -30,6 +31,19 @@ inline bool inside_loops(const std::vector<std::vector<Eigen::Vector2d>>& loops,
         odd = !odd;
     }
   return odd;
+}
+
+// The height at x of a polyline of (x, y) points (at least one) with x not decreasing, linear
+// between its points and held level beyond its ends; at a vertical step (two points at one x)
+// the height just beyond it (of the later point).
+inline double polyline_height(const std::vector<Eigen::Vector2d>& points, double x) {
+  if (x <= points.front().x()) return points.front().y();
+  if (x >= points.back().x()) return points.back().y();
+  const auto upper = std::upper_bound(points.begin(), points.end(), x,
+                                      [](double value, const Eigen::Vector2d& p) { return value < p.x(); });
+  const Eigen::Vector2d& b = *upper;
+  const Eigen::Vector2d& a = *(upper - 1);
+  return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
 }
 
 }  // namespace talus

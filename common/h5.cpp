@@ -361,20 +361,26 @@ std::vector<std::string> list_attributes(const File& file, const std::string& pa
   return names;
 }
 
-double get_double(const File& file, const std::string& path, const std::string& name) {
+namespace {
+
+// A one-value attribute read as `type` (HDF5 converts), or an Error saying `expected`.
+template <class T>
+T get_one(const File& file, const std::string& path, const std::string& name, hid_t type, const char* expected) {
   Handle attribute = open_attribute(file, path, name);
-  double value = 0;
-  if (attribute_size(attribute) != 1 || H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, &value) < 0)
-    fail(file, root_relative(path) + "@" + name, "expected one number");
+  T value = 0;
+  if (attribute_size(attribute) != 1 || H5Aread(attribute.id(), type, &value) < 0)
+    fail(file, root_relative(path) + "@" + name, expected);
   return value;
 }
 
+}  // namespace
+
+double get_double(const File& file, const std::string& path, const std::string& name) {
+  return get_one<double>(file, path, name, H5T_NATIVE_DOUBLE, "expected one number");
+}
+
 int64_t get_int(const File& file, const std::string& path, const std::string& name) {
-  Handle attribute = open_attribute(file, path, name);
-  int64_t value = 0;
-  if (attribute_size(attribute) != 1 || H5Aread(attribute.id(), H5T_NATIVE_INT64, &value) < 0)
-    fail(file, root_relative(path) + "@" + name, "expected one integer");
-  return value;
+  return get_one<int64_t>(file, path, name, H5T_NATIVE_INT64, "expected one integer");
 }
 
 std::string get_string(const File& file, const std::string& path, const std::string& name) {

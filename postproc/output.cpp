@@ -55,12 +55,14 @@ void JsonWriter::before_value() {
   levels_.back().empty = false;
 }
 
-JsonWriter& JsonWriter::begin_object() {
+JsonWriter& JsonWriter::open(char bracket, bool is_object) {
   before_value();
-  text_ += '{';
-  levels_.push_back({true, true});
+  text_ += bracket;
+  levels_.push_back({is_object, true});
   return *this;
 }
+
+JsonWriter& JsonWriter::begin_object() { return open('{', true); }
 
 JsonWriter& JsonWriter::end_object() {
   const bool empty = levels_.back().empty;
@@ -71,12 +73,7 @@ JsonWriter& JsonWriter::end_object() {
   return *this;
 }
 
-JsonWriter& JsonWriter::begin_array() {
-  before_value();
-  text_ += '[';
-  levels_.push_back({false, true});
-  return *this;
-}
+JsonWriter& JsonWriter::begin_array() { return open('[', false); }
 
 JsonWriter& JsonWriter::end_array() {
   levels_.pop_back();

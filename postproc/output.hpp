@@ -34,6 +34,7 @@ class JsonWriter {
   const std::string& text() const { return text_; }
 
  private:
+  JsonWriter& open(char bracket, bool is_object);  // begin_object, begin_array
   void before_value();
   void newline();
   std::string text_;

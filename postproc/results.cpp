@@ -1,6 +1,10 @@
 #include "postproc/results.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include <Eigen/Geometry>
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
@@ -39,7 +43,33 @@ std::vector<double> read_vector(const h5::File& file, const std::string& path, s
   std::vector<double> values = h5::read_doubles(file, path, &dims);
   if (dims.size() != 1 || dims[0] != length)
     throw Error(located(file.path(), path, "expected " + std::to_string(length) + " values"));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i])) throw Error(located(file.path(), path, "non-finite value at row " + std::to_string(i)));
   return values;
+}
+
+// No run takes a particle a million times the extent of the particles' start from it (the solver
+// stops one when a particle leaves the mesh): such a frame position (1e308) is damage, and would
+// break the figures' axes.
+constexpr double kMaxTravel = 1e6;
+
+void check_travel(const Results& results, const std::string& path) {
+  Eigen::AlignedBox2d start;
+  for (const auto& p : results.initial_position) start.extend(p);
+  const double extent = std::max(start.diagonal().norm(), 1.0);
+  for (std::size_t f = 0; f < results.position.size(); ++f)
+    for (std::size_t p = 0; p < results.position[f].size(); ++p) {
+      const Eigen::Vector2d& x = results.position[f][p];
+      const double distance = start.exteriorDistance(x);
+      if (distance > kMaxTravel * extent) {
+        std::ostringstream message;
+        message.precision(3);
+        message << "particle " << p << " of frame " << f << " is at (" << x.x() << ", " << x.y() << ") m, " << distance
+                << " m from where the particles started (an extent of " << extent << " m): more than " << kMaxTravel
+                << " times that extent, which no run reaches";
+        throw Error(located(path, "frames/position", message.str()));
+      }
+    }
 }
 
 std::vector<double> flatten(const std::vector<std::vector<Eigen::Vector2d>>& frames) {
@@ -86,6 +116,7 @@ Results read_results(const std::string& path) {
   check_frame_times(results.frame_time, path);
   check_particle_count(file, n);
   results.position = as_points(read_frames(file, "frames/position", f, n, 2), f, n);
+  check_travel(results, path);
   results.velocity = as_points(read_frames(file, "frames/velocity", f, n, 2), f, n);
   if (h5::exists(file, "frames/plastic_strain")) {
     const std::vector<double> flat = read_frames(file, "frames/plastic_strain", f, n, 0);
@@ -93,9 +124,10 @@ Results read_results(const std::string& path) {
       results.plastic_strain.emplace_back(flat.begin() + k * n, flat.begin() + (k + 1) * n);
   }
 
-  if (h5::has_attribute(file, "/", "complete")) results.complete = h5::get_int(file, "/", "complete") != 0;
-  results.history_time = h5::read_doubles(file, "history/time");
-  const std::size_t h = results.history_time.size();
+  // Complete only when the solver said so: a file without the attribute was cut short or damaged.
+  results.complete = h5::has_attribute(file, "/", "complete") && h5::get_int(file, "/", "complete") != 0;
+  const std::size_t h = h5::shape(file, "history/time").empty() ? 0 : h5::shape(file, "history/time").front();
+  results.history_time = read_vector(file, "history/time", h);
   results.kinetic_energy = read_vector(file, "history/kinetic_energy", h);
   results.potential_energy = read_vector(file, "history/potential_energy", h);
   results.strain_energy = read_vector(file, "history/strain_energy", h);

@@ -192,16 +192,8 @@ bool has_vertical_face(const Polyline& surface) {
   return false;
 }
 
-double surface_height(const Polyline& surface, double x) {
-  if (x <= surface.front().x()) return surface.front().y();
-  if (x >= surface.back().x()) return surface.back().y();
-  // At a vertical step (two points at one x) the height just downhill of it counts.
-  const auto upper = std::upper_bound(surface.begin(), surface.end(), x,
-                                      [](double value, const Eigen::Vector2d& p) { return value < p.x(); });
-  const Eigen::Vector2d& b = *upper;
-  const Eigen::Vector2d& a = *(upper - 1);
-  return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
-}
+// At a vertical step (two points at one x) the height just downhill of it counts.
+double surface_height(const Polyline& surface, double x) { return polyline_height(surface, x); }
 
 Polyline Mirror::polyline(const Polyline& line) const {
   if (!active) return line;

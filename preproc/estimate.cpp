@@ -1,10 +1,13 @@
 #include "preproc/estimate.hpp"
 
 #include <gmsh.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 #include <utility>
 
@@ -84,7 +87,8 @@ double body_area(const std::string& group) {
 
 // The mean edge length of gmsh's 1D mesh of the domain's boundary, with the .geo's own sizes.
 double boundary_element_size(const std::vector<int>& domain) {
-  gmsh::model::mesh::generate(1);
+  GmshSession::generate(1);
+  if (!GmshSession::logged_errors().empty()) return 0;  // the meshing reports it
   double length = 0, segments = 0;
   for (int surface : domain) {
     gmsh::vectorpair boundary;
@@ -101,17 +105,97 @@ double boundary_element_size(const std::vector<int>& domain) {
   return segments > 0 ? length / segments : 0;
 }
 
-double available_bytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kilobytes = 0;
-  std::string unit;
-  while (meminfo >> key >> kilobytes >> unit)
-    if (key == "MemAvailable:") return kilobytes * 1024;
-  return INFINITY;  // unknown: no refusal on memory
+std::string number(double x, int digits = 3);
+
+// A "Key: N kB" line of a /proc file, in bytes; NaN when missing.
+double proc_kilobytes(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    std::string word;
+    double kilobytes = 0;
+    if (fields >> word && word == key && fields >> kilobytes) return kilobytes * 1024;
+  }
+  return NAN;
 }
 
-std::string number(double x, int digits = 3) {
+// A whole file's one number ("max", a missing file or anything else: NaN).
+double file_number(const std::string& path) {
+  std::ifstream in(path);
+  double value = NAN;
+  if (!(in >> value)) return NAN;
+  return value;
+}
+
+}  // namespace
+
+double cgroup_memory_left(const std::string& root) {
+  // The memory cgroup of this process: "0::/path" (v2) or "N:...memory...:/path" (v1).
+  std::ifstream cgroups(root + "/proc/self/cgroup");
+  std::string v2_path, v1_path;
+  for (std::string line; std::getline(cgroups, line);) {
+    const auto first = line.find(':'), second = line.find(':', first + 1);
+    if (first == std::string::npos || second == std::string::npos) continue;
+    const std::string controllers = line.substr(first + 1, second - first - 1), path = line.substr(second + 1);
+    if (line.substr(0, first) == "0" && controllers.empty()) v2_path = path;
+    std::stringstream list(controllers);
+    for (std::string c; std::getline(list, c, ',');)
+      if (c == "memory") v1_path = path;
+  }
+  // Where each hierarchy is mounted, and which of its folders the mount shows as its root.
+  std::ifstream mounts(root + "/proc/self/mountinfo");
+  double left = INFINITY;
+  for (std::string line; std::getline(mounts, line);) {
+    std::istringstream fields(line);
+    std::string id, parent, device, mount_root, mount_point, options, field;
+    fields >> id >> parent >> device >> mount_root >> mount_point >> options;
+    while (fields >> field && field != "-") {
+    }
+    std::string type, source, super_options;
+    fields >> type >> source >> super_options;
+    const bool v2 = type == "cgroup2" && !v2_path.empty();
+    const bool v1 = type == "cgroup" && !v1_path.empty() && ("," + super_options + ",").find(",memory,") != std::string::npos;
+    if (!v1 && !v2) continue;
+    std::string path = v2 ? v2_path : v1_path;
+    if (mount_root != "/" && path.rfind(mount_root, 0) == 0) path = path.substr(mount_root.size());
+    // The limits of the cgroup and of every cgroup above it in this mount.
+    for (std::filesystem::path folder = std::filesystem::path(root + mount_point) / std::filesystem::path(path).relative_path();;
+         folder = folder.parent_path()) {
+      const double limit = file_number((folder / (v2 ? "memory.max" : "memory.limit_in_bytes")).string());
+      const double used = file_number((folder / (v2 ? "memory.current" : "memory.usage_in_bytes")).string());
+      if (limit < 1e18 && std::isfinite(used)) left = std::min(left, std::max(0.0, limit - used));
+      if (folder.string().size() <= (root + mount_point).size() || folder == folder.parent_path()) break;
+    }
+  }
+  return left;
+}
+
+MemoryLeft memory_left() {
+  MemoryLeft best{proc_kilobytes("/proc/meminfo", "MemAvailable:"), "MemAvailable"};
+  if (std::isnan(best.bytes)) best = {INFINITY, ""};  // unknown: no refusal on memory
+  auto consider = [&](double bytes, const std::string& what) {
+    if (bytes < best.bytes) best = {std::max(0.0, bytes), what};
+  };
+  struct rlimit limit {};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+    const double mapped = proc_kilobytes("/proc/self/status", "VmSize:");
+    consider(static_cast<double>(limit.rlim_cur) - (std::isnan(mapped) ? 0 : mapped),
+             "the address-space limit (ulimit -v) of " + number(static_cast<double>(limit.rlim_cur) / 1e9) +
+                 " GB, less the " + number(mapped / 1e9) + " GB this process maps already");
+  }
+  if (getrlimit(RLIMIT_DATA, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+    const double data = proc_kilobytes("/proc/self/status", "VmData:");
+    consider(static_cast<double>(limit.rlim_cur) - (std::isnan(data) ? 0 : data),
+             "the data-size limit (ulimit -d) of " + number(static_cast<double>(limit.rlim_cur) / 1e9) + " GB, less the " +
+                 number(data / 1e9) + " GB this process uses already");
+  }
+  consider(cgroup_memory_left(), "what the memory limit of this process's cgroup leaves");
+  return best;
+}
+
+namespace {
+
+std::string number(double x, int digits) {
   std::ostringstream s;
   s.precision(digits);
   s << x;
@@ -130,8 +214,17 @@ void check_steps(const Scene& scene, double h) {
     const Material& m = scene.materials[index];
     const double nu = m.poisson_ratio;
     const double wave_speed = std::sqrt(m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / m.density);
-    const double step = scene.run.cfl * 0.5 * h / wave_speed;
+    // A body thrown faster than its material's waves travel sets the step by its speed.
+    const double speed = body.fixed ? 0 : std::hypot(body.initial_velocity.x(), body.initial_velocity.y());
+    const double step = scene.run.cfl * 0.5 * h / (wave_speed + speed);
     const double steps = scene.run.end_time / step;
+    if (steps > kMaxSteps && speed > wave_speed)
+      throw Error(located(scene.path, "bodies." + body.name + ".initial_velocity",
+                          "a speed of " + number(speed) + " m/s at an element size of " + number(h) +
+                              " m gives a time step of about " + number(step) + " s: about " + number(steps) +
+                              " steps over run.end_time = " + number(scene.run.end_time) + " s, more than " +
+                              number(kMaxSteps) + " (lower the speed, shorten run.end_time, or set run.max_steps "
+                              "to run anyway)"));
     if (steps > kMaxSteps)
       throw Error(located(scene.path, "materials." + m.name + ".youngs_modulus",
                           "a wave speed of " + number(wave_speed) + " m/s at an element size of " + number(h) +
@@ -158,6 +251,8 @@ SizeEstimate estimate_size(const Scene& scene) {
     for (int surface : domain) estimate.domain_area += surface_area(surface);
     for (const auto& body : scene.bodies) estimate.body_areas.push_back(body_area(body.group));
     estimate.element_size = scene.mesh.size ? *scene.mesh.size : boundary_element_size(domain);
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory already (talus exits with status 3)
   } catch (...) {  // gmsh 4.8 throws strings; whatever it is, the meshing reports it
     return estimate;
   }
@@ -174,6 +269,9 @@ SizeEstimate estimate_size(const Scene& scene) {
                           std::min(estimate.body_areas[b], estimate.domain_area) / estimate.element_area;
   estimate.bytes = kBytesPerParticle * estimate.particles + kBytesPerNode * estimate.nodes +
                    kBytesPerTriangle * estimate.triangles;
+  // What model.h5 holds of each (positions, velocities, masses, volumes, stresses and indices;
+  // coordinates; corners and neighbours), measured on the slope at two sizes within 0.1 %.
+  estimate.model_bytes = 88 * estimate.particles + 16 * estimate.nodes + 24 * estimate.triangles;
   return estimate;
 }
 
@@ -181,14 +279,24 @@ void check_size(const Scene& scene) {
   const SizeEstimate e = estimate_size(scene);
   if (!e.known) return;
   const std::string size_item = scene.mesh.size ? "mesh.size" : "the element sizes of " + scene.geometry;
-  const double available = available_bytes();
-  if (e.bytes > available)
-    throw Error(located(scene.path, size_item,
-                        "an element size of " + number(e.element_size) + " m over the domain's " +
+  const std::string sizes = "an element size of " + number(e.element_size) + " m over the domain's " +
                             number(e.domain_area) + " m^2 gives about " + number(e.triangles) + " triangles and " +
-                            number(e.particles) + " particles, about " + number(e.bytes / 1e9) +
+                            number(e.particles) + " particles, ";
+  const MemoryLeft memory = memory_left();
+  if (e.bytes > memory.bytes)
+    throw Error(located(scene.path, size_item,
+                        sizes + "about " + number(e.bytes / 1e9) +
                             " GB to solve (500 B per particle, 200 B per node, 150 B per triangle), more than the " +
-                            number(available / 1e9) + " GB of MemAvailable: raise mesh.size"));
+                            number(memory.bytes / 1e9) + " GB left by " + memory.what + ": raise mesh.size"));
+  // model.h5 against the file size limit (ulimit -f), which would stop its write at the end.
+  struct rlimit file_limit {};
+  if (getrlimit(RLIMIT_FSIZE, &file_limit) == 0 && file_limit.rlim_cur != RLIM_INFINITY &&
+      e.model_bytes > static_cast<double>(file_limit.rlim_cur))
+    throw Error(located(scene.path, size_item,
+                        sizes + "a model.h5 of about " + number(e.model_bytes / 1e6) +
+                            " MB (88 B per particle, 16 B per node, 24 B per triangle), more than the file size "
+                            "limit of " + number(static_cast<double>(file_limit.rlim_cur) / 1e6) +
+                            " MB (ulimit -f): raise mesh.size or the limit"));
   // The time step follows the smallest altitude: h/2 in a crossed square, that of an equilateral
   // triangle of edge h/sqrt(3).
   check_steps(scene, scene.mesh.pattern == MeshPattern::Crossed ? e.element_size / std::sqrt(3.0) : e.element_size);

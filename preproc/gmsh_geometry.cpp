@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <limits>
+#include <new>
 
 #include "common/error.hpp"
 #include "preproc/geo_guard.hpp"
@@ -27,6 +28,8 @@ void with_gmsh_errors(const std::string& path, const std::string& doing, Action 
   std::string message;
   try {
     action();
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory, not a problem of the .geo (talus exits with status 3)
   } catch (const std::string& text) {
     message = text;
   } catch (const std::exception& e) {
@@ -44,6 +47,18 @@ void override_sizes(double size) {
   // Sizes also come from fields and curvature; pinning both bounds makes `size` win everywhere.
   gmsh::option::setNumber("Mesh.MeshSizeMin", size);
   gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+}
+
+// Without [mesh] size the .geo's own sizes are used: a largest size of 0 or less leaves gmsh
+// no size at all (it logs an error for every point of every curve).
+void check_size_options(const std::string& geo_path) {
+  double largest = 1;
+  gmsh::option::getNumber("Mesh.MeshSizeMax", largest);
+  if (largest > 0) return;
+  std::ostringstream message;
+  message << "got " << largest << " (also set as Mesh.CharacteristicLengthMax): the largest element size must be "
+          << "positive; fix the .geo, or set [mesh] size in the scene";
+  throw Error(located(geo_path, "Mesh.MeshSizeMax", message.str()));
 }
 
 void copy_nodes(GeoMesh& mesh) {
@@ -247,7 +262,8 @@ GeoMesh mesh_geometry(const std::string& geo_path, const std::optional<double>& 
     }
   }
   if (size) with_gmsh_errors(geo_path, "set the element size", [&] { override_sizes(crossed ? 2 * *size : *size); });
-  with_gmsh_errors(geo_path, "mesh the geometry", [&] { gmsh::model::mesh::generate(2); });
+  else check_size_options(geo_path);
+  with_gmsh_errors(geo_path, "mesh the geometry", [&] { GmshSession::generate(2); });
 
   GeoMesh mesh;
   mesh.path = geo_path;

@@ -28,14 +28,36 @@ class GmshSession {
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
 
-  // The errors gmsh logged, one per line (gmsh sometimes logs an error and carries on).
+  // The first error gmsh logged, and how many more it logged (gmsh sometimes logs an error and
+  // carries on, or logs the same one for every curve); empty when none.
   static std::string logged_errors() {
     std::vector<std::string> log;
     gmsh::logger::get(log);
-    std::string errors;
+    std::string first;
+    int more = 0;
     for (const auto& line : log)
-      if (line.rfind("Error", 0) == 0) errors += (errors.empty() ? "" : "\n") + line;
-    return errors;
+      if (line.rfind("Error", 0) == 0) {
+        if (first.empty()) first = line;
+        else ++more;
+      }
+    if (more > 0) first += " (and " + std::to_string(more) + " more errors)";
+    return first;
+  }
+
+  // gmsh::model::mesh::generate, with gmsh's errors logged rather than thrown: gmsh meshes the
+  // curves and surfaces in OpenMP regions, out of which an exception cannot pass (std::terminate,
+  // SIGABRT). The caller reads the errors with logged_errors().
+  static void generate(int dimension) {
+    double abort_on_error = 2;
+    gmsh::option::getNumber("General.AbortOnError", abort_on_error);
+    gmsh::option::setNumber("General.AbortOnError", 1);  // log, and stop meshing
+    try {
+      gmsh::model::mesh::generate(dimension);
+    } catch (...) {
+      gmsh::option::setNumber("General.AbortOnError", abort_on_error);
+      throw;
+    }
+    gmsh::option::setNumber("General.AbortOnError", abort_on_error);
   }
 
  private:

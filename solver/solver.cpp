@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <optional>
 #include <iomanip>
 #include <ostream>
@@ -104,6 +105,12 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       rank_frames.emplace(model, (std::filesystem::path(options.out_dir) / "results.h5").string());
   };
   const std::string checkpoint = checkpoint_path(options.out_dir);
+  on_root([&] {
+    // What a checkpoint write that was killed left (it is written to NAME.tmp and renamed): this
+    // solve holds the folder's lock, so no one else is writing it.
+    std::error_code ignored;
+    std::filesystem::remove(checkpoint + ".tmp", ignored);
+  });
   if (options.restart) {
     shared([&] {
       sim = make_simulation(model, threads.threads);
@@ -119,14 +126,25 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
     on_root([&] {
       std::error_code ignored;  // a checkpoint of an earlier run would not match the new results
       std::filesystem::remove(checkpoint, ignored);
-      // The results' initial state comes from the model's columns before they move.
-      writer.emplace(options.out_dir, model);
     });
-    start_rank_frames();
+    // A bad model, or memory that runs out before the first frame is written, leaves no results
+    // behind.
     try {
+      // The results' initial state comes from the model's columns before they move.
+      on_root([&] { writer.emplace(options.out_dir, model); });
+      start_rank_frames();
       shared([&] { sim = owned ? make_simulation(std::move(*owned), threads.threads) : make_simulation(model, threads.threads); });
       distribute(sim);
-    } catch (...) {  // a bad model leaves no results behind
+      const Energies initial = energies(sim);
+      const BlowUpBudget budget = BlowUpBudget::starting_from(sim, initial);
+      loop.budget = budget.budget();
+      loop.budget_limit = budget.limit();
+      loop.next_output = run.output_interval;
+      if (writer) writer->record_history(sim, initial);
+      FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0, rank_frames ? &*rank_frames : nullptr)
+          .write(sim);
+    } catch (...) {
+      rank_frames.reset();
       if (writer) {
         std::error_code ignored;
         const std::string results = writer->path(), xdmf = writer->xdmf_path();
@@ -136,14 +154,6 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       }
       throw;
     }
-    const Energies initial = energies(sim);
-    const BlowUpBudget budget = BlowUpBudget::starting_from(sim, initial);
-    loop.budget = budget.budget();
-    loop.budget_limit = budget.limit();
-    loop.next_output = run.output_interval;
-    if (writer) writer->record_history(sim, initial);
-    FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0, rank_frames ? &*rank_frames : nullptr)
-        .write(sim);
     loop.next_output = run.output_interval;
   }
   sim.scratch.phase_times = options.phase_times;
@@ -166,12 +176,29 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   const double setup_seconds = std::chrono::duration<double>(start - setup_start).count();
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
   std::optional<ThreadPinning> pinning(std::in_place, sim.config.threads);
-  const LoopEnd end = run_time_loop(sim, run.cfl, run.end_time, observers);
+  const std::string results_path = (std::filesystem::path(options.out_dir) / "results.h5").string();
+  auto frames_kept = [&] { return writer ? writer->frames() : 0L; };
+  LoopEnd end;
+  try {
+    end = run_time_loop(sim, run.cfl, run.end_time, observers);
+  } catch (const std::bad_alloc&) {
+    // The frames written so far are kept, marked incomplete (what the step was building is freed).
+    pinning.reset();
+    progress.done();
+    std::ostringstream message;
+    message << "out of memory at step " << sim.steps << ", t = " << sim.time << " s (std::bad_alloc): ";
+    try {
+      on_root([&] { writer->finish(sim.steps, seconds(), false); });
+      message << frames_kept() << " frames kept in " << results_path << " (incomplete)";
+    } catch (const std::exception& error) {
+      message << "closing " << results_path << " failed too: " << error.what();
+    }
+    message << "; free memory, raise the limits (ulimit -v, the cgroup's), or mesh coarser";
+    throw OutOfMemory(message.str());
+  }
   pinning.reset();  // the threads' masks back before anything else runs on them
   progress.done();
 
-  const std::string results_path = (std::filesystem::path(options.out_dir) / "results.h5").string();
-  auto frames_kept = [&] { return writer ? writer->frames() : 0L; };
   if (end.kind == LoopEnd::StepFailed || end.kind == LoopEnd::Failed || end.kind == LoopEnd::BadTimeStep) {
     const std::string message = end.kind == LoopEnd::StepFailed ? step_failure(sim, budget) : end.reason;
     on_root([&] { writer->finish(sim.steps, seconds(), false); });

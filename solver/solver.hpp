@@ -29,6 +29,13 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
+// Thrown by solve() when memory ran out during the time loop (std::bad_alloc), after closing
+// results.h5 with the frames written so far (complete = 0); the message says when and what was
+// kept. The driver exits with status 3 (docs/robustness.md).
+struct OutOfMemory : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct SolveSummary {
   long steps = 0;
   std::size_t particles = 0;

@@ -21,37 +21,10 @@ using testing::Row;
 using testing::scene_change;
 using testing::ScratchDir;
 using testing::write_file;
+using testing::geo_row;
+using testing::meshed_model_row;
+using testing::solved_results_row;
 
-// The block of the base scene, with `geo` for its .geo (as evil.geo beside the scene).
-std::string geo_row(const fs::path& dir, const std::string& geo) {
-  write_file(dir / "evil.geo", geo);
-  return scene_change(dir, "block.geo", "evil.geo");
-}
-
-// The base scene meshed by talus, its model.h5 changed by `change`, handed to `talus solve`.
-std::string meshed_model_row(const fs::path& dir, const std::function<void(const h5::File&)>& change,
-                             const std::string& options = "") {
-  const auto meshed = testing::run_talus(testing::scene_row(dir, testing::kScene) + " --out " + (dir / "m").string());
-  EXPECT_EQ(meshed.status, 0) << meshed.output;
-  const std::string model = (dir / "m" / "model.h5").string();
-  h5::File file = h5::File::open_write(model);
-  change(file);
-  file.close();
-  return "solve " + model + " " + options;
-}
-
-// The base scene meshed and solved by talus, its results.h5 changed by `change`, handed to
-// `talus post`.
-std::string solved_results_row(const fs::path& dir, const std::function<void(const h5::File&)>& change) {
-  const std::string model = meshed_model_row(dir, [](auto&) {}).substr(6);
-  const auto solved = testing::run_talus("solve " + model + " --quiet");
-  EXPECT_EQ(solved.status, 0) << solved.output;
-  const std::string results = (dir / "m" / "results.h5").string();
-  h5::File file = h5::File::open_write(results);
-  change(file);
-  file.close();
-  return "post " + results;
-}
 
 std::vector<Row> rows() {
   return {

@@ -25,6 +25,10 @@ TEST(Cli, HelpListsEveryStageAndExitsZero) {
   EXPECT_EQ(result.status, 0);
   for (const char* word : {"talus mesh", "talus solve", "talus post", "talus run", "--set", "--out"})
     EXPECT_NE(result.output.find(word), std::string::npos) << word;
+  // Every exit status, as docs/robustness.md lists them.
+  for (const char* words : {"0 on success, 1 on bad input or a failed run, 2 on an internal", "3 when memory ran out",
+                            "130 when stopped by SIGINT", "143 when", "128 + N when a rank was killed by signal N"})
+    EXPECT_NE(result.output.find(words), std::string::npos) << words;
 }
 
 TEST(Cli, UnknownCommandAndMissingInputAreOneClearError) {

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "common/h5.hpp"
+#include "support/bad_input_table.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -183,6 +184,127 @@ TEST_F(Mpi, MixedIntegrationIsRefusedOnSeveralRanksWithOneMessage) {
       << result.output;
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
   EXPECT_FALSE(fs::exists(dir.file("out/results.h5")));
+}
+
+// ---- Faults of `--ranks` (issue 43): a killed driver, a killed rank ------------------------
+
+// A shell script that starts `talus solve MODEL --ranks 2` into OUT in the background (its output
+// in OUT.log), waits until its ranks run (found as mpirun's children, rank 0's pid first) and
+// have written the first frame, and then runs `body` with $T, $driver, $mpirun, $ranks and the
+// helpers `alive PIDS`, `gone PIDS` (waits up to 30 s for them to end: "gone" or "alive"),
+// `ends` (prints ranks=gone and lock=free when the ranks have ended and released the lock) and
+// `finish` (waits up to 60 s for the driver and prints its status=). Whatever it started is
+// killed when the script ends, whether or not the ranks ever ran.
+std::string ranks_script(const std::string& model, const std::string& out, const std::string& body) {
+  return "exec 2>&1; T=" + std::string(TALUS_BINARY) + "; out=" + out + "; model=" + model + "\n" +
+         "$T solve $model --ranks 2 --threads 1 -q --out $out > $out.log 2>&1 & driver=$!\n"
+         "for i in $(seq 1 600); do mpirun=$(ps -o pid= --ppid $driver | tr -d ' '); [ -n \"$mpirun\" ] && break; "
+         "sleep 0.05; done\n"
+         "trap 'kill -9 $driver $mpirun $(ps -o pid= --ppid $mpirun) 2>/dev/null' EXIT\n"
+         // the first frame written: every rank is in the solve, where SIGTERM stops after a step
+         "for i in $(seq 1 1200); do [ -f $out/results.xdmf ] && break; sleep 0.05; done\n"
+         "ranks=''; for p in $(ps -o pid= --ppid $mpirun); do\n"
+         "  if tr '\\0' '\\n' < /proc/$p/environ | grep -qx OMPI_COMM_WORLD_RANK=0; then ranks=\"$p $ranks\"; "
+         "else ranks=\"$ranks $p\"; fi; done\n"
+         "alive() { for p in \"$@\"; do s=$(cut -d' ' -f3 /proc/$p/stat 2>/dev/null); [ -n \"$s\" ] && [ \"$s\" != Z ] && "
+         "return 0; done; return 1; }\n"
+         "gone() { for i in $(seq 1 600); do alive \"$@\" || { echo gone; return; }; sleep 0.05; done; echo alive; }\n"
+         "ends() { echo ranks=$(gone $ranks); flock -n $out/.talus.lock true && echo lock=free; }\n"
+         "finish() { i=0; while alive $driver && [ $i -lt 1200 ]; do sleep 0.05; i=$((i + 1)); done; "
+         "kill -9 $driver 2>/dev/null; wait $driver; echo status=$?; }\n"
+         "echo ranks=$ranks\n" +
+         body;
+}
+
+// ranks_script on a slope that runs for minutes on two ranks (the faults come while it runs),
+// meshed into DIR/model, solved into DIR/out.
+testing::CommandResult ranks_fault(const ScratchDir& dir, const std::string& body) {
+  const auto meshed = run_talus("mesh " + testing::source_path("geometries/slope.toml") +
+                                " --quiet --set mesh.size=0.5 --set run.end_time=60 --set run.rest_ratio=0.0 --out " +
+                                dir.file("model"));
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  return run_shell(ranks_script(dir.file("model/model.h5"), dir.file("out"), body));
+}
+
+// What ranks_script's body printed, and rank 0's log: the ranks ended, stopping after a step with
+// a checkpoint (as on SIGTERM), and the lock is free.
+void expect_ranks_stopped_with_a_checkpoint(const testing::CommandResult& result, const std::string& out) {
+  EXPECT_NE(result.output.find("ranks=gone"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("lock=free"), std::string::npos) << result.output;
+  const std::string log = testing::read_text(out + ".log");
+  EXPECT_NE(log.find("talus: interrupted by SIGTERM at step "), std::string::npos) << log;
+  EXPECT_TRUE(fs::exists(out + "/checkpoint.h5"));
+}
+
+// `kill -9` of the driver (issue 43, item 1): before, mpirun and the ranks went on writing with the
+// lock released, a second solve was let in, and the orphans then deleted its results.h5. Now the
+// ranks hold the lock: with them stopped (SIGSTOP) while the driver dies, a second solve is
+// refused; once they run again they stop after the step with a checkpoint, keeping the frames,
+// and release the lock.
+TEST_F(Mpi, AKilledDriversRanksKeepTheFolderLockedUntilTheyStop) {
+  const ScratchDir dir("mpi-orphans");
+  const auto result = ranks_fault(dir,
+                                  "kill -STOP $ranks; kill -9 $driver; wait $driver\n"
+                                  "$T solve $model --threads 1 -q --out $out; echo second=$?\n"
+                                  "kill -CONT $ranks; ends\n");
+  const std::string out = dir.file("out");
+  EXPECT_NE(result.output.find("second=1"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(out + ": another talus is writing into this folder (pid "), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("(MPI ranks: pid "), std::string::npos) << result.output;
+  expect_ranks_stopped_with_a_checkpoint(result, out);
+  const h5::File results = h5::File::open_read(out + "/results.h5");
+  EXPECT_EQ(h5::get_int(results, "/", "complete"), 0);
+  EXPECT_GE(h5::read_doubles(results, "frames/time").size(), 1u);
+}
+
+// Without SIGSTOP the ranks see the driver go (mpirun forwards the SIGUSR2 the driver's death
+// sends it, and each rank watches its link to the driver) and stop within a step or so.
+TEST_F(Mpi, AKilledDriversRanksStopByThemselves) {
+  const ScratchDir dir("mpi-orphans-stop");
+  expect_ranks_stopped_with_a_checkpoint(ranks_fault(dir, "kill -9 $driver; wait $driver; ends\n"), dir.file("out"));
+  EXPECT_TRUE(fs::exists(dir.file("out/results.h5")));
+}
+
+// `kill -9` of one rank (issue 43, item 1): before, exit 137 and not a word (mpirun's --quiet).
+// Now the driver names the rank and the signal, and exits 128 + its number.
+TEST_F(Mpi, ARankKilledByASignalIsNamed) {
+  const ScratchDir dir("mpi-killed-rank");
+  const auto result = ranks_fault(dir,
+                                  "set -- $ranks; victim=$2; echo victim=$victim\n"
+                                  "kill -9 $victim; finish\n"
+                                  "echo left=$(gone $ranks $mpirun)\n");
+  const std::string out = dir.file("out");
+  const auto at = result.output.find("victim=");
+  ASSERT_NE(at, std::string::npos) << result.output;
+  const std::string victim = result.output.substr(at + 7, result.output.find('\n', at) - at - 7);
+  EXPECT_NE(result.output.find("status=137"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("left=gone"), std::string::npos) << result.output;
+  const std::string log = testing::read_text(out + ".log");
+  EXPECT_NE(log.find("talus: error: --ranks 2: rank 1 (pid " + victim + ") was killed by SIGKILL; mpirun stopped the "
+                     "other ranks. " + out + "/results.h5 keeps the frames written before"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(log.find("internal error"), std::string::npos) << log;
+}
+
+// An absurd initial state in a model (issue 43, item 4): on 2 ranks a generic blow-up before;
+// now the message of one rank, naming the dataset, once.
+TEST_F(Mpi, AnAbsurdInitialVelocityGivesOneRanksMessageOnTwo) {
+  const ScratchDir dir("mpi-initial-state");
+  const std::string solve = testing::meshed_model_row(dir.path(), [](const h5::File& f) {
+    h5::Dims dims;
+    std::vector<double> velocity = h5::read_doubles(f, "particles/velocity", &dims);
+    velocity[0] = 1e308;
+    h5::write(f, "particles/velocity", velocity, dims);
+  });
+  const auto one = run_talus(solve + " --threads 1 --quiet --out " + dir.file("one"));
+  const auto two = run_talus(solve + " --threads 1 --quiet --ranks 2 --out " + dir.file("two"));
+  EXPECT_EQ(one.status, 1) << one.output;
+  EXPECT_EQ(two.status, 1) << two.output;
+  EXPECT_NE(one.output.find("model.h5: particles/velocity: particle 0 moves at 1e+308 m/s"), std::string::npos)
+      << one.output;
+  EXPECT_EQ(two.output, one.output);
 }
 
 TEST(MpiOptions, RanksIsRefusedWhereNothingSolves) {

@@ -16,11 +16,9 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_shell;
 using testing::ScratchDir;
-
-// `talus ARGS` with files limited to `blocks` of 512 bytes (sh's ulimit -f).
-testing::CommandResult talus_limited(int blocks, const std::string& args) {
-  return run_shell("trap '' XFSZ; ulimit -f " + std::to_string(blocks) + "; " + TALUS_BINARY + " " + args);
-}
+// `ulimit -f N`: files of at most N blocks of 512 bytes. talus ignores SIGXFSZ itself (before
+// issue 43 the signal killed it: status 153, no message, model.h5.tmp left).
+using testing::talus_with_limit;
 
 void expect_failed_write(const testing::CommandResult& result, const std::string& file) {
   EXPECT_EQ(result.status, 1) << result.output;
@@ -33,19 +31,33 @@ TEST(WriteFaults, AFullDiskStopsEveryStageAndLeavesNoHalfWrittenFile) {
   const fs::path out = dir.path() / "out";
   const std::string scene = testing::scene_row(dir.path(), testing::kScene) + " --out " + out.string();
 
-  expect_failed_write(talus_limited(20, scene), "model.h5.tmp");
+  // 50 kB passes the estimate of model.h5 (28 kB: 88 B per particle, 16 B per node, 24 B per
+  // triangle) and stops its write (the file takes 64 kB with HDF5's own).
+  expect_failed_write(talus_with_limit("-f 100", scene), "model.h5.tmp");
   EXPECT_FALSE(fs::exists(out / "model.h5"));
   EXPECT_FALSE(fs::exists(out / "model.h5.tmp"));
 
   ASSERT_EQ(testing::run_talus(scene + " --quiet").status, 0);
   // 205 kB passes the estimate of results.h5 (170 kB: 4 frames of 344 particles at 100 B and
   // 8 kB) and stops the writes (the file takes 228 kB).
-  const auto solved = talus_limited(400, "solve " + (out / "model.h5").string());
+  const auto solved = talus_with_limit("-f 400", "solve " + (out / "model.h5").string());
   expect_failed_write(solved, "results.h5");
   EXPECT_NE(solved.output.find("removed " + (out / "results.h5").string() + " and results.xdmf"), std::string::npos)
       << solved.output;
   EXPECT_FALSE(fs::exists(out / "results.h5"));
   EXPECT_FALSE(fs::exists(out / "results.xdmf"));
+}
+
+TEST(WriteFaults, AModelLargerThanTheFileSizeLimitIsRefusedBeforeMeshing) {
+  ScratchDir dir("write-faults-model-estimate");
+  const fs::path out = dir.path() / "out";
+  const auto result = talus_with_limit("-f 20", testing::scene_row(dir.path(), testing::kScene) + " --out " + out.string());
+  EXPECT_EQ(result.status, 1) << result.output;
+  for (const char* words : {"block.toml: mesh.size: an element size of 0.25 m over the domain's 2 m^2 gives about ",
+                            "a model.h5 of about 0.0284 MB (88 B per particle, 16 B per node, 24 B per triangle), more "
+                            "than the file size limit of 0.0102 MB (ulimit -f): raise mesh.size or the limit"})
+    EXPECT_NE(result.output.find(words), std::string::npos) << words << " not in: " << result.output;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(WriteFaults, AFullDiskDuringTheFiguresLeavesNoTruncatedPicture) {
@@ -55,7 +67,7 @@ TEST(WriteFaults, AFullDiskDuringTheFiguresLeavesNoTruncatedPicture) {
   ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
   for (const auto& entry : fs::directory_iterator(out))
     if (entry.path().extension() == ".png") fs::remove(entry.path());
-  const auto result = talus_limited(40, "post " + (out / "results.h5").string() + " -q");  // 20 kB
+  const auto result = talus_with_limit("-f 40", "post " + (out / "results.h5").string() + " -q");  // 20 kB
   EXPECT_EQ(result.status, 1) << result.output;
   EXPECT_NE(result.output.find("figures.py: figures failed: exited with status 1: OSError: [Errno 27] File too large"),
             std::string::npos)
@@ -70,7 +82,7 @@ TEST(WriteFaults, ResultsThatWouldNotFitAreRefusedBeforeTheSolve) {
   const std::string scene =
       testing::scene_row(dir.path(), testing::replaced(testing::kScene, "output_interval = 0.005", "output_interval = 1e-5"));
   ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
-  const auto result = talus_limited(1000, "solve " + (out / "model.h5").string());
+  const auto result = talus_with_limit("-f 1000", "solve " + (out / "model.h5").string());
   EXPECT_EQ(result.status, 1) << result.output;
   for (const char* words : {"model.h5: settings/run@output_interval: results.h5 would take about 0.0424",
                             " frames of 344 particles at 100 B each, and 8 kB a frame), more than the file size "
@@ -96,6 +108,29 @@ TEST(WriteFaults, ResultsDeletedDuringASolveStopIt) {
   EXPECT_NE(result.output.find(results + ": deleted while the solve was writing it"), std::string::npos)
       << result.output;
   EXPECT_FALSE(fs::exists(out / "results.xdmf"));
+}
+
+// A checkpoint write that was killed leaves checkpoint.h5.tmp; before issue 43 a restart (and a
+// fresh solve) left it there for good. The solve holds the folder's lock, so it removes it.
+TEST(WriteFaults, AStaleCheckpointTemporaryIsRemovedBySolveAndRestart) {
+  ScratchDir dir("write-faults-stale-checkpoint");
+  const fs::path out = dir.path() / "out";
+  const std::string scene = testing::scene_row(
+      dir.path(), testing::replaced(testing::replaced(testing::kScene, "end_time = 0.01", "end_time = 100.0\nmax_steps = 3000"),
+                                    "gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]"));
+  ASSERT_EQ(testing::run_talus(scene + " --quiet --out " + out.string()).status, 0);
+  const std::string model = (out / "model.h5").string(), stale = (out / "checkpoint.h5.tmp").string();
+  testing::write_file(stale, "half a checkpoint");
+  const auto stopped = run_shell("( " + std::string(TALUS_BINARY) + " solve " + model +
+                                 " -q --checkpoint-interval 0.001 & pid=$!; for i in $(seq 1 3000); do [ -f '" +
+                                 (out / "checkpoint.h5").string() + "' ] && break; sleep 0.01; done; kill -TERM $pid; "
+                                 "wait $pid; echo status=$? )");
+  ASSERT_NE(stopped.output.find("status=143"), std::string::npos) << stopped.output;
+  EXPECT_FALSE(fs::exists(stale)) << "left by a fresh solve";
+  testing::write_file(stale, "half a checkpoint");
+  const auto restarted = testing::run_talus("solve " + model + " -q --restart");
+  EXPECT_EQ(restarted.status, 0) << restarted.output;
+  EXPECT_FALSE(fs::exists(stale)) << "left by a restart";
 }
 
 }  // namespace

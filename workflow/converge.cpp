@@ -1,6 +1,7 @@
 // The mesh-convergence workflow. Method and rule for the band: docs/converge.md.
 #include "workflow/converge.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -199,6 +200,10 @@ void print_table(const Study& study, std::ostream& log) {
 
 }  // namespace
 
+constexpr const char* kNoConvergeMetrics =
+    "converge follows runout, crest retreat, travel angle, failed area and the slip circle: the scene's metrics "
+    "give none of them (add \"runout\" or \"failure_surface\")";
+
 const std::vector<ConvergeMetric>& converge_metrics() {
   static const std::vector<ConvergeMetric> metrics{
       {"runout_distance_m", "runout", "m"},
@@ -217,6 +222,12 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
   if (!(options.ratio > 1) || !std::isfinite(options.ratio))
     throw Error("converge: --ratio: expected a number > 1, got " + number_text(options.ratio, 6));
   const Scene scene = load_scene(options.scene_path, options.overrides);
+  // The metrics converge follows come from post's runout and failure surface: a scene that asks
+  // for neither is refused before any level runs (before, after running every level).
+  const auto& asked = scene.post.metrics;
+  if (std::find(asked.begin(), asked.end(), "runout") == asked.end() &&
+      std::find(asked.begin(), asked.end(), "failure_surface") == asked.end())
+    throw Error(located(options.scene_path, "post.metrics", kNoConvergeMetrics));
   // --set mesh.size sets the coarsest level; each level then gives its own.
   std::vector<std::string> overrides;
   for (const auto& text : options.overrides)
@@ -287,10 +298,7 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
     else
       study.convergence.emplace_back(std::nullopt);
   }
-  if (!any)
-    throw Error(located(options.scene_path, "post.metrics",
-                        "converge follows runout, crest retreat, travel angle, failed area and the slip circle: "
-                        "the scene's metrics give none of them (add \"runout\" or \"failure_surface\")"));
+  if (!any) throw Error(located(options.scene_path, "post.metrics", kNoConvergeMetrics));
 
   const std::string csv = (fs::path(folder) / "converge.csv").string();
   write_csv(study, csv);

@@ -26,6 +26,9 @@ namespace fs = std::filesystem;
 std::mutex made_mutex;
 std::map<std::string, std::string> made_folders;
 
+// The locks this process holds, by folder name.
+std::map<std::string, FolderLock*> held_locks;
+
 std::string made_root(const std::string& folder) {
   const std::lock_guard<std::mutex> guard(made_mutex);
   const auto it = made_folders.find(folder);
@@ -102,6 +105,10 @@ FolderLock::FolderLock(const std::string& folder)
     fd_ = -1;
     if (attempt == 10) throw Error(located(path, "", "the lock file keeps being replaced; is another program removing it?"));
   }
+  {
+    const std::lock_guard<std::mutex> guard(made_mutex);
+    held_locks[folder_] = this;
+  }
   const std::string text = holder_text() + "\n";
   // Who holds it is only for the message of a second writer: a failure here changes nothing.
   const bool told = ftruncate(fd_, 0) == 0 && pwrite(fd_, text.data(), text.size(), 0) > 0;
@@ -125,8 +132,24 @@ void FolderLock::remove_if_left_empty() {
   }
 }
 
+int FolderLock::held_descriptor(const std::string& folder) {
+  const std::lock_guard<std::mutex> guard(made_mutex);
+  const auto it = held_locks.find(folder);
+  return it == held_locks.end() ? -1 : it->second->fd_;
+}
+
+void FolderLock::release_all_after_fatal_error() {
+  // No lock taken here: the process is ending, and the thread that failed may hold it.
+  for (const auto& [folder, lock] : held_locks)
+    if (!lock->created_root_.empty()) lock->remove_if_left_empty();
+}
+
 FolderLock::~FolderLock() {
   if (fd_ < 0) return;
+  {
+    const std::lock_guard<std::mutex> guard(made_mutex);
+    held_locks.erase(folder_);
+  }
   if (!created_root_.empty() && std::uncaught_exceptions() > exceptions_) remove_if_left_empty();
   const bool cleared = ftruncate(fd_, 0) == 0;
   static_cast<void>(cleared);

@@ -23,6 +23,15 @@ class FolderLock {
   FolderLock(const FolderLock&) = delete;
   FolderLock& operator=(const FolderLock&) = delete;
 
+  // The descriptor of the lock this process holds on `folder` (the name it was taken by), -1
+  // when it holds none: a `--ranks` driver hands it to its ranks (workflow/ranks_link.hpp).
+  static int held_descriptor(const std::string& folder);
+
+  // For a process that ends without unwinding (std::terminate: out of memory inside an OpenMP
+  // region): what the destructors of the locks it holds would do on an exception, that is,
+  // remove the folders made for it that hold nothing but the lock file.
+  static void release_all_after_fatal_error();
+
  private:
   void remove_if_left_empty();
 

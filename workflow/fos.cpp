@@ -3,7 +3,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -87,12 +90,34 @@ void print_result(std::ostream& log, const FosReport& r) {
       << r.equilibrium_seconds << " s\n" << std::defaultfloat;
 }
 
+// The narrowest bracket the search can resolve: in its rounds, after the expansion from the
+// lowest stable factor it may start from (1/8, a slope that fails as built) up to max_factor, one
+// trial a round halving the bracket (max_factor (1 - 1/growth) wide at most); and in double
+// precision, where the interior points of a bracket a few ulps of max_factor wide fall on its ends.
+double narrowest_bracket(const solver::SearchSettings& s) {
+  constexpr double kLowestStableFactor = 0.125;
+  const double expansion = std::ceil(std::log(s.max_factor / kLowestStableFactor) / std::log(s.growth));
+  const double widest = s.max_factor * (1 - 1 / s.growth);
+  const double by_rounds = widest * std::pow(2.0, -(s.max_rounds - expansion));
+  const double by_precision = 16 * s.max_factor * std::numeric_limits<double>::epsilon();
+  return std::max(by_rounds, by_precision);
+}
+
 }  // namespace
 
 int run_fos(const FosOptions& options, std::ostream& out_log) {
   std::ostringstream discarded;
   std::ostream& log = options.quiet ? static_cast<std::ostream&>(discarded) : out_log;
   const double tolerance = options.tolerance.value_or(solver::SearchSettings{}.tolerance);
+  // Refused at once: before, --tolerance 1e-300 ran every trial of 100 rounds and then said
+  // "no bracket within 100 rounds".
+  if (const double narrowest = narrowest_bracket(solver::SearchSettings{}); tolerance < narrowest) {
+    std::ostringstream message;
+    message << "--tolerance: got " << tolerance << ", below " << std::setprecision(3) << narrowest
+            << ", the narrowest bracket the search can resolve (factors up to " << solver::SearchSettings{}.max_factor
+            << " in double precision, in at most " << solver::SearchSettings{}.max_rounds << " rounds)";
+    throw Error(message.str());
+  }
 
   const Scene scene = load_scene(options.scene_path, options.overrides);
   const fs::path out = output_folder(options.out, scene);

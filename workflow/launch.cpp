@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,10 +12,13 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "common/error.hpp"
 #include "solver/parallel/parallel.hpp"
+#include "workflow/folder_lock.hpp"
+#include "workflow/ranks_link.hpp"
 
 namespace fs = std::filesystem;
 
@@ -40,6 +44,12 @@ std::string on_path(const std::string& name) {
     if (access(candidate.c_str(), X_OK) == 0) return candidate.string();
   }
   return "";
+}
+
+// "SIGKILL" for 9, "signal 64" for a number without a name.
+std::string signal_name(int signal) {
+  const char* abbreviation = sigabbrev_np(signal);
+  return abbreviation ? std::string("SIG") + abbreviation : "signal " + std::to_string(signal);
 }
 
 std::string number(double value) {
@@ -83,6 +93,13 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
 
+  // The ranks take the folder's lock from this process (ranks_link.hpp): mpirun closes the
+  // descriptors it would inherit.
+  const int lock_fd = FolderLock::held_descriptor(folder);
+  if (lock_fd < 0) throw std::logic_error("--ranks: the folder's lock is not held by this process");
+  RanksListener listener(lock_fd);
+  const pid_t driver = getpid();
+
   if (!options.quiet) log << "solving on " << ranks << " MPI ranks (mpirun)" << std::endl;
   log.flush();
   // Ctrl-C and SIGTERM are caught from here on: until mpirun has gone, this process forwards them.
@@ -109,9 +126,15 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
     // this process alone, which forwards it as the ranks understand it (mpirun's own handling of
     // SIGINT kills the ranks a second later, too soon for a checkpoint).
     setpgid(0, 0);
+    // When this process dies (even by kill -9), mpirun gets SIGUSR2, which it forwards to the
+    // ranks as a SIGTERM would be (they stop after the step with a checkpoint); the ranks also
+    // watch their link to this process. If it died before prctl, mpirun is not started.
+    prctl(PR_SET_PDEATHSIG, SIGUSR2);
+    if (getppid() != driver) _exit(128 + SIGUSR2);
     const int null = open("/dev/null", O_RDONLY);
     if (null >= 0) dup2(null, STDIN_FILENO);
     setenv(kRanksChildVariable, "1", 1);
+    setenv(kRanksSocketVariable, listener.name().c_str(), 1);
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     execv(mpirun.c_str(), argv.data());
@@ -134,14 +157,28 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
       restore();
       throw Error(std::string("--ranks: lost mpirun: ") + std::strerror(errno));
     }
-    usleep(50000);  // a signal cuts it short
+    listener.serve(50);  // a signal cuts it short
   }
   restore();
+  listener.serve(0);  // what the ranks said last
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   // Stopped by a signal here: the ranks exit 128 + its number; mpirun may report another status.
   if (parent_signal != 0 && code != 0) code = 128 + parent_signal;
-  throw RanksFailed{code};
+  const int killed = parent_signal == 0 ? listener.killed_rank() : -1;
+  if (killed >= 0) {
+    // A rank ended without a word (mpirun, with --quiet, says nothing): killed by a signal,
+    // which mpirun's status carries as 128 + its number.
+    std::ostringstream message;
+    message << "--ranks " << ranks << ": rank " << killed << " (pid " << listener.pid_of(killed) << ") ";
+    if (code > 128 && code < 128 + 65) message << "was killed by " << signal_name(code - 128);
+    else message << "ended without a word (mpirun's status " << code << ")";
+    message << "; mpirun stopped the other ranks. " << (fs::path(folder) / "results.h5").string()
+            << " keeps the frames written before, marked incomplete; restart from a checkpoint with --restart if "
+               "one was written";
+    throw RanksFailed{code, message.str()};
+  }
+  throw RanksFailed{code, ""};
 }
 
 }  // namespace talus::workflow

@@ -5,7 +5,10 @@
 // process), and waits. Ctrl-C and SIGTERM here reach the ranks as OpenMPI forwards them: as
 // SIGUSR1 and SIGUSR2, which a distributed solve takes for SIGINT and SIGTERM (it stops after
 // the step with a checkpoint); a second one stops mpirun at once. Rank 0 prints the progress,
-// the summary and any error; this process adds nothing and exits with the ranks' status.
+// the summary and any error; this process exits with the ranks' status, and adds a message
+// only when a rank was killed by a signal (128 + its number, as mpirun reports it).
+// The ranks hold the output folder's lock with this process, and stop when it is gone
+// (workflow/ranks_link.hpp): a `kill -9` of this process leaves no rank writing unlocked.
 #pragma once
 #include <ostream>
 #include <string>
@@ -20,9 +23,11 @@ constexpr const char* kRanksChildVariable = "TALUS_RANKS_CHILD";
 // This process is a rank that a `--ranks` parent started.
 bool launched_by_ranks_parent();
 
-// The ranks stopped with a non-zero status (rank 0 has said why): the driver exits with it.
+// The ranks stopped with a non-zero status: the driver exits with it. Rank 0 has said why, or,
+// when a rank was killed by a signal (which no rank can report), `message` says which.
 struct RanksFailed {
   int status;
+  std::string message;
 };
 
 // Solves `model_path` into `folder` on options.ranks ranks under mpirun. Throws talus::Error when

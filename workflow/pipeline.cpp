@@ -1,6 +1,7 @@
 #include "workflow/pipeline.hpp"
 
 #include <sys/resource.h>
+#include <signal.h>
 #include <sys/statvfs.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "solver/parallel/parallel.hpp"
 #include "workflow/folder_lock.hpp"
 #include "workflow/launch.hpp"
+#include "workflow/ranks_link.hpp"
 #include "workflow/stamps.hpp"
 
 namespace fs = std::filesystem;
@@ -161,10 +163,20 @@ void solve_stage(const std::string& model_path, const StageOptions& options, std
     return;
   }
   // One of several ranks (mpirun): rank 0 holds the folder's lock for them all, unless the
-  // `--ranks` parent that started mpirun holds it already; every rank learns whether it got it.
+  // `--ranks` parent that started mpirun holds it already, when every rank takes it from the
+  // parent (ranks_link.hpp); every rank learns whether it got it.
   std::optional<FolderLock> lock;
   std::string refused;
-  if (solver::mpi::rank() == 0 && !launched_by_ranks_parent()) {
+  if (launched_by_ranks_parent()) {
+    signal(SIGPIPE, SIG_IGN);  // a terminal gone with the parent fails a write, and kills no rank
+    const std::string why = join_ranks_driver();
+    const int first = solver::mpi::first_rank_with(!why.empty());
+    if (first >= 0) {
+      std::string reason = why;
+      solver::mpi::broadcast(reason, first);
+      throw SharedError(located(folder, "", "rank " + std::to_string(first) + " " + reason + "; nothing was written"));
+    }
+  } else if (solver::mpi::rank() == 0) {
     try {
       lock.emplace(folder);
       stamps::forget(folder);

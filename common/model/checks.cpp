@@ -1,6 +1,8 @@
 #include "common/model/checks.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -92,6 +94,40 @@ void check_model_geometry(const Model& model, const std::string& path) {
       }
     }
   }
+  if (const auto problem = initial_state_problem(model))
+    throw Error(located(path, problem->speed ? "particles/velocity" : "particles/stress", problem->message));
+}
+
+std::optional<InitialStateProblem> initial_state_problem(const Model& model) {
+  // The smallest element height, as the solver takes it (twice the area over the longest edge).
+  double h_min = INFINITY;
+  for (const auto& t : model.triangles) {
+    const Eigen::Vector2d a = model.nodes[t[0]], b = model.nodes[t[1]], c = model.nodes[t[2]];
+    const double twice_area = std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    if (longest > 0) h_min = std::min(h_min, twice_area / longest);
+  }
+  const double fastest = model.run.cfl * h_min / (model.run.end_time * std::numeric_limits<double>::epsilon());
+  std::ostringstream message;
+  message.precision(3);
+  for (std::size_t p = 0; p < model.position.size(); ++p) {
+    const double speed = std::hypot(model.velocity[p].x(), model.velocity[p].y());  // no overflow at 1e308
+    if (speed > fastest) {
+      message << "particle " << p << " moves at " << speed << " m/s: its CFL time step, run.cfl x " << h_min
+              << " m (the smallest element height) / " << speed << " m/s, is too small for the time to pass "
+              << "run.end_time = " << model.run.end_time << " s; at most " << fastest << " m/s";
+      return InitialStateProblem{p, true, message.str()};
+    }
+    const Material& material = model.materials.at(model.bodies.at(model.body[p]).material);
+    const double stress = model.stress[p].cwiseAbs().maxCoeff();
+    if (!(stress <= kMaxInitialStrain * material.youngs_modulus)) {
+      message << "particle " << p << " starts with a stress of " << stress << " Pa, " << stress / material.youngs_modulus
+              << " times the Young's modulus of material '" << material.name << "' (" << material.youngs_modulus
+              << " Pa): an elastic strain no soil or rock takes (at most " << kMaxInitialStrain << ")";
+      return InitialStateProblem{p, false, message.str()};
+    }
+  }
+  return std::nullopt;
 }
 
 void check_particle_count(const h5::File& file, std::size_t count) {

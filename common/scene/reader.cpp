@@ -168,6 +168,20 @@ void TableReader::fail(const std::string& key, const std::string& message) const
   throw Error(located(file_, prefix_.empty() ? key : prefix_ + "." + key, message));
 }
 
+namespace {
+
+// A plain word or path (crossed, mohr_coulomb, ../other.geo): letters, digits, '_', '-', '.' and
+// '/', not starting like a number.
+bool bare_word(const std::string& text) {
+  if (text.empty() || !(std::isalpha(static_cast<unsigned char>(text[0])) || text[0] == '_' || text[0] == '.' || text[0] == '/'))
+    return false;
+  return std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' || c == '/';
+  });
+}
+
+}  // namespace
+
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file,
                     std::set<std::string>& overridden) {
   const auto equals = assignment.find('=');
@@ -176,12 +190,31 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   const std::string key = assignment.substr(0, equals);
   const std::string value_text = assignment.substr(equals + 1);
 
-  // The value in TOML syntax; a bare word that TOML does not accept is taken as a string.
+  const std::string item = "--set " + echoed(assignment);
+  // One TOML value on one line: "value = TEXT" parsed as a document would take
+  // "0.2\n[run]\ncfl = 9" as a value and a table (and keep the value only).
+  if (value_text.find_first_of("\n\r") != std::string::npos)
+    throw Error(located(file, item, "expected one value on one line, got a line break in it"));
+  // A bare word that TOML does not accept (crossed, delaunay, ../x.geo) is taken as a string;
+  // anything else TOML does not accept is an error, not a string.
   toml::table parsed;
   try {
     parsed = toml::parse("value = " + value_text);
-  } catch (const toml::parse_error&) {
+  } catch (const toml::parse_error& error) {
+    if (!bare_word(value_text))
+      throw Error(located(file, item,
+                          "the value is not valid TOML (" + std::string(error.description()) +
+                              "); text other than a plain word needs quotes: --set 'KEY=\"TEXT\"'"));
     parsed = toml::table{{"value", value_text}};
+  }
+  // Nothing after the value (its source ends at the last character that is not a space; columns
+  // count characters, 9 of them before it in "value = ").
+  if (const toml::node* value = parsed.get("value"); value && value->source().end.line == 1) {
+    std::string text = value_text;
+    while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.pop_back();
+    const long characters = std::count_if(text.begin(), text.end(), [](char c) { return (c & 0xC0) != 0x80; });
+    if (parsed.size() != 1 || static_cast<long>(value->source().end.column) - 9 < characters)
+      throw Error(located(file, item, "expected one value, got more after it"));
   }
 
   std::vector<std::string> parts;
@@ -207,16 +240,7 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
 }
 
 std::string echoed(const std::string& text) {
-  std::string out;
-  for (unsigned char c : text.substr(0, 80)) {
-    if (c >= 0x20 && c != 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      out += hex;
-    }
-  }
+  const std::string out = escaped(text.substr(0, 80));
   return text.size() > 80 ? out + "... (" + std::to_string(text.size()) + " characters)" : out;
 }
 

@@ -48,7 +48,13 @@ double pair_friction(const ContactSettings& contact, const std::string& a, const
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   using namespace scene_reader;
-  if (!std::filesystem::exists(path)) throw Error(located(path, "", "no such scene file"));
+  // Checked before it is opened: opening a FIFO blocks until something writes into it.
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw Error(located(path, "", "no such scene file"));
+  if (std::filesystem::is_directory(status)) throw Error(located(path, "", "is a folder, not a scene file"));
+  if (!std::filesystem::is_regular_file(status))
+    throw Error(located(path, "", "is not a regular file (a FIFO, a device or a socket): expected a scene file"));
   toml::table root;
   try {
     root = toml::parse_file(path);

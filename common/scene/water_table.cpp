@@ -3,21 +3,16 @@
 #include <cmath>
 #include <string>
 
+#include "common/geometry.hpp"
 #include "common/scene/scene.hpp"
 
 namespace talus {
 namespace {
 
-// Linear interpolation in a polyline of (x, y) points with x increasing, held level beyond its ends.
+// Linear interpolation in a polyline of (x, y) points with x increasing, held level beyond its
+// ends; 0 for no points.
 double interpolate(const std::vector<Eigen::Vector2d>& points, double x) {
-  if (points.empty()) return 0;
-  if (x <= points.front().x()) return points.front().y();
-  if (x >= points.back().x()) return points.back().y();
-  const auto upper = std::upper_bound(points.begin(), points.end(), x,
-                                      [](double value, const Eigen::Vector2d& p) { return value < p.x(); });
-  const Eigen::Vector2d& b = *upper;
-  const Eigen::Vector2d& a = *(upper - 1);
-  return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+  return points.empty() ? 0 : polyline_height(points, x);
 }
 
 std::string increasing_problem(const std::vector<Eigen::Vector2d>& points, const char* what, const char* axis) {

@@ -65,17 +65,39 @@ int busy_cores_at_start() {
   return env && *env ? std::max(0, std::atoi(env)) : 0;
 }
 
+int thread_cap() {
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  return hardware > 0 ? std::min(4 * hardware, kMaxThreads) : kMaxThreads;
+}
+
+int environment_threads() {
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (!env || !*env) return 0;
+  char* end = nullptr;
+  const long count = std::strtol(env, &end, 10);  // "4,2" (nested levels): the outer count
+  if (end == env || count < 1) return 0;
+  return count > thread_cap() ? -1 : static_cast<int>(count);
+}
+
+void bound_openmp_threads() {
+  if (environment_threads() < 0) omp_set_num_threads(available_cores());
+}
+
 ThreadChoice choose_threads(long particles, int requested) {
   if (requested > 0) return {requested, "--threads"};
+  const int env_threads = environment_threads();
+  const bool from_env = env_threads > 0;
   const char* env = std::getenv("OMP_NUM_THREADS");
-  const bool from_env = env && *env;
   // OpenMP's count is the user's OMP_NUM_THREADS, or what omp_set_num_threads set, or (by
   // default) the CPUs OpenMP found; the affinity mask bounds it unless the user asked for more.
   // Ranks of one machine (mpirun sets OMPI_COMM_WORLD_LOCAL_SIZE) share its cores.
   const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
   const int sharing = local && *local ? std::max(1, std::atoi(local)) : 1;
-  const int cores = from_env ? std::max(1, omp_get_max_threads())
-                             : std::max(1, std::min(available_cores(), omp_get_max_threads()) / sharing);
+  // An OMP_NUM_THREADS above the cap of --threads is not the user's count but a mistake (100000
+  // started a thread per 250 particles: 1,202 threads and 7.6 GB for 300k): the cores decide.
+  const int openmp = env_threads < 0 ? available_cores() : omp_get_max_threads();
+  const int cores = from_env ? std::max(1, std::min(env_threads, openmp))
+                             : std::max(1, std::min(available_cores(), openmp) / sharing);
   const long by_size = std::max(1L, particles / kParticlesPerThread);
   const int busy = busy_cores_at_start();
   ThreadChoice choice;
@@ -86,7 +108,10 @@ ThreadChoice choose_threads(long particles, int requested) {
   choice.why = "auto: " + with_commas(particles) + " particles, " + std::to_string(cores) +
                (from_env ? " from OMP_NUM_THREADS" : cores == 1 ? " core" : " cores") +
                (sharing > 1 && !from_env ? " of the machine's shared by its " + std::to_string(sharing) + " ranks" : "") +
-               (busy > 0 ? ", " + std::to_string(busy) + " busy" : "");
+               (busy > 0 ? ", " + std::to_string(busy) + " busy" : "") +
+               (env_threads < 0 ? "; OMP_NUM_THREADS=" + std::string(env).substr(0, 20) + " ignored, above the cap of " +
+                                      std::to_string(thread_cap())
+                                : "");
   return choice;
 }
 

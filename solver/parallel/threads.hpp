@@ -38,6 +38,21 @@ int busy_cores_at_start();
 // std::thread::hardware_concurrency, at least 1.
 int available_cores();
 
+// The most threads a solve may have: 4 x the machine's hardware threads, never above
+// kMaxThreads (each thread keeps grid buffers of its own). --threads is refused above it, and an
+// OMP_NUM_THREADS above it is not trusted (environment_threads).
+inline constexpr int kMaxThreads = 1024;
+int thread_cap();
+
+// OMP_NUM_THREADS as a count (its first entry): 0 when unset, empty or not a positive number,
+// and -1 when above thread_cap() (OMP_NUM_THREADS=100000: the automatic choice ignores it).
+int environment_threads();
+
+// Called first thing in main: when OMP_NUM_THREADS is above thread_cap(), OpenMP's count (what
+// a parallel region without num_threads would start, and the default of fos's workers) is
+// brought back to the available cores.
+void bound_openmp_threads();
+
 struct ThreadChoice {
   int threads = 1;
   std::string why;  // for the summary line: "auto: 48,812 particles, 2 cores" or "--threads"

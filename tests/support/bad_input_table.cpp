@@ -76,8 +76,39 @@ std::string scene_row(const fs::path& dir, const std::string& scene, const std::
   return "mesh " + write_file(dir / "block.toml", scene) + " " + extra;
 }
 
+CommandResult talus_with_limit(const std::string& limit, const std::string& args) {
+  return run_shell("ulimit " + limit + "; " + TALUS_BINARY + " " + args);
+}
+
 std::string scene_change(const fs::path& dir, const std::string& from, const std::string& to) {
   return scene_row(dir, replaced(kScene, from, to));
+}
+
+std::string geo_row(const fs::path& dir, const std::string& geo, const std::string& scene) {
+  write_file(dir / "evil.geo", geo);
+  return scene_row(dir, replaced(scene, "block.geo", "evil.geo"));
+}
+
+std::string meshed_model_row(const fs::path& dir, const std::function<void(const h5::File&)>& change,
+                             const std::string& options) {
+  const auto meshed = run_talus(scene_row(dir, kScene) + " --out " + (dir / "m").string());
+  EXPECT_EQ(meshed.status, 0) << meshed.output;
+  const std::string model = (dir / "m" / "model.h5").string();
+  h5::File file = h5::File::open_write(model);
+  change(file);
+  file.close();
+  return "solve " + model + " " + options;
+}
+
+std::string solved_results_row(const fs::path& dir, const std::function<void(const h5::File&)>& change) {
+  const std::string model = meshed_model_row(dir, [](auto&) {}).substr(6);
+  const auto solved = run_talus("solve " + model + " --quiet");
+  EXPECT_EQ(solved.status, 0) << solved.output;
+  const std::string results = (dir / "m" / "results.h5").string();
+  h5::File file = h5::File::open_write(results);
+  change(file);
+  file.close();
+  return "post " + results;
 }
 
 namespace {
