@@ -15,6 +15,9 @@ struct BackgroundMesh {
   std::vector<std::array<int32_t, 3>> triangles;   // counter-clockwise
   std::vector<std::array<int32_t, 3>> neighbours;  // across the edge opposite local vertex k; -1: boundary
   std::vector<int32_t> node_of_tag;                // gmsh node tag -> node id, -1 if not in the mesh
+  // The grid pattern's lattice (lattice.hpp): its nodes are none of gmsh's, and its curves'
+  // segments are found by position (lattice_segments).
+  bool lattice = false;
 
   int32_t node(NodeTag tag) const {
     return tag < node_of_tag.size() ? node_of_tag[tag] : -1;

@@ -260,7 +260,7 @@ SizeEstimate estimate_size(const Scene& scene) {
   if (!(h > 0) || !(estimate.domain_area > 0) || !std::isfinite(h)) return estimate;
   estimate.known = true;
   // Delaunay: equilateral triangles of edge h; crossed: a quadrilateral of edge h in four.
-  const bool crossed = scene.mesh.pattern == MeshPattern::Crossed;
+  const bool crossed = scene.mesh.pattern != MeshPattern::Delaunay;  // crossed, or the grid's crossed lattice
   estimate.element_area = crossed ? h * h / 4 : std::sqrt(3.0) / 4 * h * h;
   estimate.triangles = estimate.domain_area / estimate.element_area;
   estimate.nodes = estimate.triangles / 2;
@@ -299,7 +299,7 @@ void check_size(const Scene& scene) {
                             " MB (ulimit -f): raise mesh.size or the limit"));
   // The time step follows the smallest altitude: h/2 in a crossed square, that of an equilateral
   // triangle of edge h/sqrt(3).
-  check_steps(scene, scene.mesh.pattern == MeshPattern::Crossed ? e.element_size / std::sqrt(3.0) : e.element_size);
+  check_steps(scene, scene.mesh.pattern != MeshPattern::Delaunay ? e.element_size / std::sqrt(3.0) : e.element_size);
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     const Body& body = scene.bodies[b];
     const double area = e.body_areas[b];

@@ -1,6 +1,7 @@
 // build_model, step by step:
 //   1. gmsh reads and meshes the .geo (gmsh_geometry.cpp);
-//   2. the domain's triangles become the background mesh (background_mesh.cpp);
+//   2. the domain's triangles become the background mesh (background_mesh.cpp), or for the grid
+//      pattern a lattice over the domain's rectangle (lattice.cpp);
 //   3. each body's outline is chained into loops and checked against the domain (polygon.cpp);
 //   4. particles are seeded in every triangle and kept inside their body (seeding.cpp);
 //   5. boundary curves become fixed and roller nodes (boundary_conditions.cpp);
@@ -21,6 +22,7 @@
 #include "preproc/estimate.hpp"
 #include "preproc/gmsh_geometry.hpp"
 #include "preproc/initial_state.hpp"
+#include "preproc/lattice.hpp"
 #include "preproc/polygon.hpp"
 #include "preproc/scene_groups.hpp"
 #include "preproc/seeding.hpp"
@@ -49,7 +51,9 @@ Model build_model(const Scene& scene, MeshReport* report) {
   const Clock::time_point meshed = Clock::now();
 
   // 2. Background mesh.
-  const BackgroundMesh mesh = background_mesh(geo, domain_group(geo, scene));
+  const BackgroundMesh mesh = scene.mesh.pattern == MeshPattern::Grid
+                                  ? lattice_mesh(geo, domain_group(geo, scene), *scene.mesh.size)
+                                  : background_mesh(geo, domain_group(geo, scene));
   Model model;
   model.scene_name = scene.name;
   model.nodes = mesh.nodes;

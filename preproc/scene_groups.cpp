@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "preproc/lattice.hpp"
 
 namespace talus::preproc {
 
@@ -56,6 +57,7 @@ std::vector<Segment> body_outline(const GeoMesh& geo, const Body& body, const Sc
 // Mesh segments of a physical curve in background node ids; segments leaving the mesh are dropped.
 std::vector<std::array<int32_t, 2>> mesh_segments(const GeoMesh& geo, const PhysicalGroup& curve,
                                                   const BackgroundMesh& mesh) {
+  if (mesh.lattice) return lattice_segments(geo, curve, mesh);
   std::vector<std::array<int32_t, 2>> segments;
   for (int entity : curve.entities)
     for (const auto& [a, b] : geo.curve_segments.at(entity)) {
@@ -177,6 +179,10 @@ void check_inside_domain(const Region& body_region, const Region& domain, const 
 
 std::vector<int32_t> node_set(const GeoMesh& geo, const PhysicalGroup& curve, const BackgroundMesh& mesh) {
   std::set<int32_t> nodes;
+  if (mesh.lattice) {
+    for (const auto& segment : lattice_segments(geo, curve, mesh)) nodes.insert(segment.begin(), segment.end());
+    return {nodes.begin(), nodes.end()};
+  }
   for (int entity : curve.entities)
     for (const auto& segment : geo.curve_segments.at(entity))
       for (NodeTag tag : segment)

@@ -48,7 +48,7 @@ void update_velocities(Simulation& sim, double dt) {
                     c.threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, c.threads);
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
-    lagrangian_grid_velocities(dt, s.grids, c.threads);
+    lagrangian_grid_velocities(c.constraints, dt, s.grids, c.threads);
     if (c.xpic_order > 1) add_xpic_terms(sim.particles, s.stencil, c.constraints, c.xpic_order, s.grids, s.buffers, c.threads);
   }
   update_particle_velocities(sim.particles, s.stencil, c.mesh.nodes, c.transfer, dt, s.grids, s.buffers, c.threads);

@@ -154,6 +154,10 @@ enum class MeshPattern {
   // into four triangles: Nagtegaal, Parks and Rice's crossed triangles (1974), which admit plastic
   // flow at constant volume without locking (docs/slope.md, "Crossed triangles").
   Crossed,
+  // A lattice of cells of edge about mesh.size over the domain's rectangle, each cut by its
+  // diagonals into four triangles (preproc/lattice.hpp): the nodes of the B-spline shape
+  // functions, and the default pattern with them.
+  Grid,
 };
 
 struct MeshSettings {
@@ -173,6 +177,11 @@ enum class Transfer {
   Apic,      // APIC, Jiang et al. (2015): the grid velocity and its gradient, an affine particle velocity
 };
 
+// The shape functions that interpolate between particles and nodes (docs/transfer.md,
+// "Shape functions"): the linear triangles of the background mesh (the seed's), or quadratic
+// B-splines on the lattice of the grid pattern (mesh.pattern = "grid").
+enum class ShapeFunctions { Linear, QuadraticBspline };
+
 struct RunSettings {
   double end_time = 1;          // s
   double cfl = 0.5;             // alpha in dt = alpha h_min / (c_d + max|v_p|), in (0, 1]
@@ -185,6 +194,7 @@ struct RunSettings {
   double damping = 0;           // local (Cundall) damping coefficient in [0, 1)
   bool evs = false;             // enhanced volumetric strain (Detournay and Dzik 2006)
   Transfer transfer = Transfer::Flip;
+  ShapeFunctions shape_functions = ShapeFunctions::Linear;
   // PicBlend: share of the grid (PIC) velocity blended into the particle velocity after each
   // step. A few percent damp the particle velocities that the grid cannot see (FLIP's null
   // space) and that otherwise never come to rest. Ignored by the other transfers.

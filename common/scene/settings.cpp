@@ -42,10 +42,16 @@ void read_mesh(TableReader& top, Scene& scene) {
   TableReader mesh = top.child(top.table("mesh"), "mesh");
   if (mesh.has("size")) scene.mesh.size = mesh.number("size", std::nullopt, 0, kInf, false);
   scene.mesh.domain = mesh.text("domain", scene.mesh.domain);
-  const std::string pattern = mesh.text("pattern", "delaunay");
+  // B-splines take their nodes from the grid pattern's lattice: it is their default pattern.
+  const toml::table* run = top.table("run");
+  const bool bspline = run && (*run)["shape_functions"].value<std::string>() == std::optional<std::string>("bspline");
+  const std::string pattern = mesh.text("pattern", bspline ? "grid" : "delaunay");
   if (pattern == "delaunay") scene.mesh.pattern = MeshPattern::Delaunay;
   else if (pattern == "crossed") scene.mesh.pattern = MeshPattern::Crossed;
-  else mesh.fail("pattern", "unknown pattern '" + echoed(pattern) + "' (expected delaunay or crossed)");
+  else if (pattern == "grid") scene.mesh.pattern = MeshPattern::Grid;
+  else mesh.fail("pattern", "unknown pattern '" + echoed(pattern) + "' (expected delaunay, crossed or grid)");
+  if (scene.mesh.pattern == MeshPattern::Grid && !scene.mesh.size)
+    mesh.fail("size", "missing: the grid pattern needs it (the edge of its cells, m)");
   if (const toml::table* parameters = mesh.table("parameters")) {
     TableReader values = mesh.child(parameters, "mesh.parameters");
     for (const auto& [key, node] : *parameters) {
@@ -84,7 +90,18 @@ void read_run(TableReader& top, Scene& scene) {
   if (rs.transfer != Transfer::Xpic && run.has("xpic_order"))
     run.fail("xpic_order", "applies to transfer = \"xpic\" only (the transfer is \"" + transfer + "\")");
   if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
+  const std::string shape_functions = run.text("shape_functions", "linear");
+  if (shape_functions == "linear") rs.shape_functions = ShapeFunctions::Linear;
+  else if (shape_functions == "bspline") rs.shape_functions = ShapeFunctions::QuadraticBspline;
+  else run.fail("shape_functions", "unknown shape functions '" + echoed(shape_functions) + "' (expected linear or bspline)");
+  const bool bspline = rs.shape_functions == ShapeFunctions::QuadraticBspline;
+  if (bspline && scene.mesh.pattern != MeshPattern::Grid)
+    run.fail("shape_functions", "\"bspline\" takes its nodes from the grid pattern's lattice: set mesh.pattern = \"grid\" "
+                                "(its default with bspline)");
+  if (bspline && rs.evs) run.fail("evs", "enhanced volumetric strain is for linear triangles; B-splines do not use it");
   const std::string integration = run.text("integration", "material_points");
+  if (bspline && integration == "mixed")
+    run.fail("integration", "\"mixed\" is for linear triangles; B-splines integrate at the particles");
   if (integration != "material_points" && integration != "mixed")
     run.fail("integration", "unknown integration '" + echoed(integration) + "' (expected material_points or mixed)");
   if (integration != "mixed" && run.has("full_cell_fill"))

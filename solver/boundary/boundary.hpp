@@ -5,8 +5,10 @@
 // build_constraints and its case in constrain (docs/architecture.md).
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/model/model.hpp"
@@ -18,11 +20,37 @@ using Vec2 = Eigen::Vector2d;
 // Per-node boundary constraints on the velocity.
 enum class Constraint : uint8_t { Free = 0, Fixed = 1, Roller = 2, Friction = 3 };
 
+// A ghost node outside the domain (the layer that B-splines need beyond its edges,
+// solver/interpolation/lattice.hpp) takes its partner's velocity inside, reflected across the
+// edge: -v across a fixed edge, the normal component reversed across a roller or friction edge,
+// so that the velocity interpolated on the edge obeys the edge's condition. A ghost beyond a
+// free edge has no partner (-1) and is an ordinary node.
+struct Mirror {
+  int32_t partner = -1;
+  Eigen::Matrix2d reflection = Eigen::Matrix2d::Identity();
+};
+
 struct Constraints {
   std::vector<Constraint> kind;
   // Roller: unit normal, the velocity along it is zero. Friction: the outward unit normal.
   std::vector<Vec2> normal;
   std::vector<double> friction;  // Coulomb coefficient of a friction node, else 0
+  // Ghost nodes, the last ones (ids from first_ghost on; none for linear triangles): mirrors[g -
+  // first_ghost] is ghost g's.
+  int32_t first_ghost = std::numeric_limits<int32_t>::max();
+  std::vector<Mirror> mirrors;
+
+  bool has_ghosts() const { return !mirrors.empty(); }
+  // Calls mirror(ghost, partner, reflection) for every ghost with a partner in the ascending list
+  // `active` (the ghosts are its tail).
+  template <class Apply>
+  void for_each_mirror(const std::vector<int32_t>& active, Apply mirror) const {
+    if (mirrors.empty()) return;
+    for (auto k = std::lower_bound(active.begin(), active.end(), first_ghost); k != active.end(); ++k) {
+      const Mirror& m = mirrors[static_cast<std::size_t>(*k - first_ghost)];
+      if (m.partner >= 0) mirror(*k, m.partner, m.reflection);
+    }
+  }
 };
 
 Constraints build_constraints(const Model& model);

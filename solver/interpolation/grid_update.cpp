@@ -36,9 +36,38 @@ void update_grid_accelerations(const Constraints& constraints, const std::vector
       if (dt == 0) constrain(constraints, i, grid.a[i]);
     }
   }
+  mirror_accelerations(constraints, grids);
 }
 
-void lagrangian_grid_velocities(double dt, Grids& grids, int threads) {
+void fold_ghosts(const Constraints& constraints, Grids& grids) {
+  for (Grid& grid : grids.fields)
+    constraints.for_each_mirror(grids.active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+      grid.m[partner] += grid.m[g];
+      grid.p[partner] += R * grid.p[g];
+      grid.f[partner] += R * grid.f[g];
+      if (!grid.mass_gradient.empty()) grid.mass_gradient[partner] += R * grid.mass_gradient[g];
+      grid.m[g] = 0;
+      grid.p[g].setZero();
+      grid.f[g].setZero();
+      if (!grid.mass_gradient.empty()) grid.mass_gradient[g].setZero();
+    });
+}
+
+void mirror_accelerations(const Constraints& constraints, Grids& grids) {
+  for (Grid& grid : grids.fields)
+    constraints.for_each_mirror(grids.active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+      grid.a[g] = R * grid.a[partner];
+    });
+}
+
+void mirror_velocities(const Constraints& constraints, Grids& grids) {
+  for (Grid& grid : grids.fields)
+    constraints.for_each_mirror(grids.active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+      grid.v[g] = R * grid.v[partner];
+    });
+}
+
+void lagrangian_grid_velocities(const Constraints& constraints, double dt, Grids& grids, int threads) {
   const auto& active = grids.active;
   const long count = static_cast<long>(active.size());
   for (Grid& grid : grids.fields) {
@@ -49,6 +78,7 @@ void lagrangian_grid_velocities(double dt, Grids& grids, int threads) {
       grid.v[i] = grid.m[i] > 0 ? Vec2(grid.p[i] / grid.m[i] + dt * grid.a[i]) : Vec2::Zero();
     }
   }
+  mirror_velocities(constraints, grids);
 }
 
 void remap_grid_velocities(const Constraints& constraints, const std::vector<uint8_t>& field_fixed, Grids& grids,
@@ -62,23 +92,30 @@ void remap_grid_velocities(const Constraints& constraints, const std::vector<uin
     grid.v[i] = grid.m[i] > 0 && !fixed_body ? Vec2(momentum / grid.m[i]) : Vec2::Zero();
     constrain(constraints, i, grid.v[i]);
   };
-  if (!exchange) {
+  if (!exchange && !constraints.has_ghosts()) {
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long k = 0; k < count; ++k)
       for (std::size_t field = 0; field < grids.fields.size(); ++field)
         remapped(field, active[k], take_thread_sum(buffers, field, &NodeBuffer::p, active[k]));
     return;
   }
-  // Several ranks: this rank's momentum into grid.v, the ranks' sums at the shared nodes, then (A.11).
+  // Several ranks, or ghost nodes: the momentum into grid.v first; then the ranks' sums at the
+  // shared nodes, and the ghosts' momentum folded into their partners'; then (A.11) and the
+  // ghosts' mirrored velocities.
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long k = 0; k < count; ++k)
     for (std::size_t field = 0; field < grids.fields.size(); ++field)
       grids.fields[field].v[active[k]] = take_thread_sum(buffers, field, &NodeBuffer::p, active[k]);
-  exchange();
+  if (exchange) exchange();
+  for (Grid& grid : grids.fields)
+    constraints.for_each_mirror(active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+      grid.v[partner] += R * grid.v[g];
+    });
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long k = 0; k < count; ++k)
     for (std::size_t field = 0; field < grids.fields.size(); ++field)
       remapped(field, active[k], grids.fields[field].v[active[k]]);
+  mirror_velocities(constraints, grids);
 }
 
 }  // namespace talus::solver

@@ -21,6 +21,8 @@ namespace talus::solver {
 // Sizes the stencil for `particles` particles of the family on `mesh` (and fills the shared
 // tables where the family has them).
 void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles);
+// Sizes the per-particle tables for `particles` particles (after a migration), keeping the rest.
+void resize_rows(Stencil& stencil, std::size_t particles);
 // Fills the entries of particles [begin, end) from their positions and elements.
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
                      Stencil& stencil, int threads = 1);
@@ -66,7 +68,16 @@ void update_grid_accelerations(const Constraints& constraints, const std::vector
 
 // XPIC and APIC only: grid.v = v_i + dt a_i, PIC's velocity (with the lumped-mass v_i = p_i / m_i
 // of P2G), constrained as the accelerations are.
-void lagrangian_grid_velocities(double dt, Grids& grids, int threads);
+void lagrangian_grid_velocities(const Constraints& constraints, double dt, Grids& grids, int threads);
+
+// Ghost nodes (boundary.hpp, Mirror). A ghost's velocity is its partner's reflected, so its shape
+// function acts as the reflected part of its partner's: after P2G its mass, momentum, force and
+// mass gradient are folded into the partner's (R times each vector) and it holds none; the
+// grid's phases then give it the partner's acceleration and velocity, reflected (they call the
+// mirrors at their end, contact's corrections again). Nothing without ghosts.
+void fold_ghosts(const Constraints& constraints, Grids& grids);
+void mirror_accelerations(const Constraints& constraints, Grids& grids);
+void mirror_velocities(const Constraints& constraints, Grids& grids);
 
 // XPIC(m), m > 1 (xpic.cpp; Hammerquist and Nairn 2017): adds sum_{k=1}^{m-1} (I - S+S)^k v_i
 // to grid.v, with S+S v_i = sum_p m_p N_ip (sum_j N_jp v_j) / m_i, and constrains the result.

@@ -1,10 +1,20 @@
-// The shape-function families: how each fills the stencil (stencil.hpp).
+// The shape-function families: how each sizes the stencil's tables (stencil.hpp). Their entries
+// are filled particle by particle by StencilRows::fill, from the relocation or compute_stencil.
 #include "solver/interpolation/interpolation.hpp"
 
 namespace talus::solver {
 
 void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles) {
   stencil.family = family;
+  if (family == ShapeFamily::QuadraticBspline) {
+    // A row per particle: its 3 x 3 lattice nodes and their gradients, refilled with the weights.
+    stencil.width = 9;
+    stencil.row_dN.reset();
+    stencil.share_gradients(nullptr);
+    stencil.inverse_inertia = (4.0 / stencil.lattice.spacing.array().square()).matrix();  // D_p = h^2 / 4 per axis
+    resize_rows(stencil, particles);
+    return;
+  }
   stencil.width = 3;
   stencil.N.assign(particles * stencil.width, 0);
   stencil.row.assign(particles, 0);
@@ -14,6 +24,15 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
   for (std::size_t e = 0; e < mesh.element_count(); ++e)
     for (int k = 0; k < 3; ++k) stencil.row_node[e * 3 + k] = mesh.triangles[e][k];
   stencil.share_gradients(mesh.gradients);
+}
+
+void resize_rows(Stencil& stencil, std::size_t particles) {
+  const std::size_t entries = particles * static_cast<std::size_t>(stencil.width);
+  stencil.N.resize(entries, 0);
+  stencil.row.resize(particles, 0);
+  if (!stencil.rows_per_particle()) return;
+  stencil.row_node.resize(entries, stencil.lattice.id(0, 0));
+  stencil.own_dN.resize(entries, Vec2::Zero());
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,

@@ -18,18 +18,21 @@
 // computes a run's velocity gradient once, EVS adds a cell's sums once per run. A family with a
 // row per particle gets runs of one, which is the particle-by-particle loop.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
 #include <vector>
 
+#include "solver/interpolation/lattice.hpp"
 #include "solver/interpolation/mesh.hpp"
 #include "solver/step/particles.hpp"
 
 namespace talus::solver {
 
 enum class ShapeFamily {
-  LinearTriangle,  // the containing triangle's three linear shape functions (seed, A.3)
+  LinearTriangle,    // the containing triangle's three linear shape functions (seed, A.3)
+  QuadraticBspline,  // tensor-product quadratic B-splines on the grid pattern's lattice (bspline.cpp)
 };
 
 // The widest stencil a family may have: phases keep per-entry sums of a particle or a run of
@@ -53,13 +56,17 @@ struct Stencil {
   // grad N_ip (1/m), [row * width + k]: shared, never written through (linear triangles: the
   // mesh's). A copy of the stencil shares it too, so the raw pointer the phases read stays valid.
   std::shared_ptr<const std::vector<Vec2>> row_dN;
-  // APIC's inverse inertia, D_p^-1 = inverse_inertia I (Jiang et al. 2015; quadratic B-splines
-  // 4 / h^2); 0 for linear shape functions, whose affine matrix is sum v_i grad N_ip^T
+  // grad N_ip of a family whose gradients differ per particle (B-splines), [p * width + k]: the
+  // stencil's own (a copy of the stencil copies it); empty otherwise.
+  std::vector<Vec2> own_dN;
+  // APIC's inverse inertia D_p^-1, diagonal (Jiang et al. 2015; quadratic B-splines 4 / h^2 per
+  // axis); zero for linear shape functions, whose affine matrix is sum v_i grad N_ip^T
   // (to_particles.cpp, affine_matrix).
-  double inverse_inertia = 0;
+  Vec2 inverse_inertia = Vec2::Zero();
+  Lattice lattice;  // QuadraticBspline: the grid pattern's, with its ghost layer
   void share_gradients(std::shared_ptr<const std::vector<Vec2>> table) {
     row_dN = std::move(table);
-    dN_ = row_dN->data();
+    dN_ = row_dN ? row_dN->data() : nullptr;
   }
 
   // The `width` weights, node ids and gradients of particle p, in the order of its entries
@@ -67,7 +74,8 @@ struct Stencil {
   const double* weights(std::size_t p) const;
   const int32_t* nodes(std::size_t p) const;
   const Vec2* gradients(std::size_t p) const;
-  const Vec2* gradient_table() const { return dN_; }
+  const Vec2* gradient_table() const { return own_dN.empty() ? dN_ : own_dN.data(); }
+  bool rows_per_particle() const { return family != ShapeFamily::LinearTriangle; }
 
  private:
   const Vec2* dN_ = nullptr;  // row_dN->data()
@@ -80,6 +88,7 @@ template <class Body>
 void with_width(const Stencil& stencil, Body&& body) {
   switch (stencil.width) {
     case 3: body(std::integral_constant<int, 3>{}); return;
+    case 9: body(std::integral_constant<int, 9>{}); return;
     default: body(stencil.width); return;
   }
 }
@@ -122,18 +131,59 @@ inline const Vec2* Stencil::gradients(std::size_t p) const { return StencilView(
 class StencilRows {
  public:
   explicit StencilRows(Stencil* stencil)
-      : N_(stencil ? stencil->N.data() : nullptr), row_(stencil ? stencil->row.data() : nullptr) {}
+      : N_(stencil ? stencil->N.data() : nullptr), row_(stencil ? stencil->row.data() : nullptr),
+        family_(stencil ? stencil->family : ShapeFamily::LinearTriangle),
+        node_(stencil ? stencil->row_node.data() : nullptr),
+        dN_(stencil && !stencil->own_dN.empty() ? stencil->own_dN.data() : nullptr),
+        lattice_(stencil ? &stencil->lattice : nullptr) {}
   void fill(std::size_t p, const Vec2& x, int32_t element, const Vec3& barycentric) const {
-    // Linear triangles (the only family so far; a second one switches on Stencil::family here):
-    // the weights are the barycentric ones and the row is the element's.
+    if (family_ == ShapeFamily::QuadraticBspline) return fill_bspline(p, x);
+    // Linear triangles: the weights are the barycentric ones and the row is the element's.
     double* N = N_ + p * 3;
     for (int k = 0; k < 3; ++k) N[k] = barycentric[k];
     row_[p] = element;  // the element's row of the tables reset_stencil built
   }
 
  private:
+  // Quadratic B-splines (e.g. Steffen, Kirby and Berzins 2008): along each axis the particle at
+  // lattice coordinate g (cells from the origin) reaches the three nodes b, b + 1, b + 2 with
+  // b = floor(g - 1/2); with f = g - b in [1/2, 3/2) their weights are (3/2 - f)^2 / 2,
+  // 3/4 - (f - 1)^2 and (f - 1/2)^2 / 2, which sum to 1 and are C1 across the cells. The 3 x 3
+  // products are the weights, entry k = 3 b + a for node (b_x + a, b_y + b); the row is p's own.
+  void fill_bspline(std::size_t p, const Vec2& x) const {
+    const Lattice& L = *lattice_;
+    double w[2][3], dw[2][3];
+    int base[2];
+    for (int d = 0; d < 2; ++d) {
+      const double g = (x[d] - L.origin[d]) / L.spacing[d];
+      base[d] = static_cast<int>(std::floor(g - 0.5));
+      const double f = g - base[d];
+      w[d][0] = 0.5 * (1.5 - f) * (1.5 - f);
+      w[d][1] = 0.75 - (f - 1) * (f - 1);
+      w[d][2] = 0.5 * (f - 0.5) * (f - 0.5);
+      dw[d][0] = (f - 1.5) / L.spacing[d];
+      dw[d][1] = -2 * (f - 1) / L.spacing[d];
+      dw[d][2] = (f - 0.5) / L.spacing[d];
+    }
+    double* N = N_ + p * 9;
+    int32_t* nodes = node_ + p * 9;
+    Vec2* dN = dN_ + p * 9;
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) {
+        const int k = 3 * b + a;
+        N[k] = w[0][a] * w[1][b];
+        nodes[k] = L.id(base[0] + a, base[1] + b);
+        dN[k] = Vec2(dw[0][a] * w[1][b], w[0][a] * dw[1][b]);
+      }
+    row_[p] = static_cast<int32_t>(p);
+  }
+
   double* N_;
   int32_t* row_;
+  ShapeFamily family_;
+  int32_t* node_;
+  Vec2* dN_;
+  const Lattice* lattice_;
 };
 
 }  // namespace talus::solver

@@ -10,20 +10,21 @@ namespace talus::solver {
 namespace {
 
 // APIC's C_p = B_p D_p^-1, B_p = sum N_ip v_i (x_i - x_p)^T, as (xx, xy, yx, yy), from the
-// velocities v_i of particle p's W nodes. The family gives D_p^-1 (Stencil::inverse_inertia): a
-// multiple of I for B-splines; for linear shape functions (inverse_inertia 0)
-// C_p = sum v_i grad N_ip^T, which is B_p D_p^-1 for them.
+// velocities v_i of particle p's W nodes. The family gives D_p^-1 (Stencil::inverse_inertia,
+// diagonal): 4 / h^2 per axis for quadratic B-splines; for linear shape functions (zero)
+// C_p = sum v_i grad N_ip^T, which is B_p D_p^-1 for them (Jiang et al. 2017).
 template <class Width>
-Vec4 affine_matrix(int W, const StencilView<Width>& S, double inverse_inertia, long p, const Vec2* v_i,
+Vec4 affine_matrix(int W, const StencilView<Width>& S, const Vec2& inverse_inertia, long p, const Vec2* v_i,
                    const Vec2* x_i, const Vec2& x_p) {
   Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
-  if (inverse_inertia == 0) {
+  if (inverse_inertia.isZero()) {
     const Vec2* dN = S.gradients(p);
     for (int k = 0; k < W; ++k) C += v_i[k] * dN[k].transpose();
   } else {
     const double* N = S.weights(p);
     const int32_t* nodes = S.nodes(p);
-    for (int k = 0; k < W; ++k) C += (inverse_inertia * N[k]) * v_i[k] * (x_i[nodes[k]] - x_p).transpose();
+    for (int k = 0; k < W; ++k)
+      C += N[k] * v_i[k] * (x_i[nodes[k]] - x_p).cwiseProduct(inverse_inertia).transpose();
   }
   return Vec4(C(0, 0), C(0, 1), C(1, 0), C(1, 1));
 }
@@ -44,7 +45,8 @@ void particle_velocities(Particles& P, const Stencil& stencil, const std::vector
     NodeBuffer* const mine = buffers[omp_get_thread_num()].data();
     const StencilView S(stencil, W);  // and the rest the loop reads, taken once in the region
     const long moving = static_cast<long>(P.moving_count);
-    const double step = dt, inverse_inertia = stencil.inverse_inertia;
+    const double step = dt;
+    const Vec2 inverse_inertia = stencil.inverse_inertia;
     const int32_t* const body = P.body.data();
     const int32_t* const field_index = grids.field_index.data();
     const double* const mass = P.m.data();

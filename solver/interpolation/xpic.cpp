@@ -16,6 +16,16 @@
 #include "solver/interpolation/interpolation.hpp"
 
 namespace talus::solver {
+namespace {
+
+// The ghosts' terms from their partners', reflected, for the next pass's gather.
+void mirror_terms(const Constraints& constraints, const std::vector<int32_t>& active, Grid& grid) {
+  constraints.for_each_mirror(active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+    grid.xpic_term[g] = R * grid.xpic_term[partner];
+  });
+}
+
+}  // namespace
 
 void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& constraints, int order, Grids& grids,
                     ThreadBuffers& buffers, int threads) {
@@ -30,6 +40,7 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
       const int32_t i = active[k];
       grid.xpic_term[i] = grid.m[i] > 0 ? Vec2(grid.p[i] / grid.m[i]) : Vec2::Zero();
     }
+    mirror_terms(constraints, active, grid);
   }
   for (int power = 1; power < order; ++power) {
 #pragma omp parallel num_threads(threads)
@@ -56,11 +67,22 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
         for (std::size_t field = 0; field < grids.fields.size(); ++field) {
           Grid& grid = grids.fields[field];
           const Vec2 projected = take_thread_sum(buffers, field, &NodeBuffer::p, i);
+          if (i >= constraints.first_ghost) grid.xpic_term[i] = projected;  // folded below (fold_ghosts)
           if (!(grid.m[i] > 0)) continue;
           grid.xpic_term[i] -= projected / grid.m[i];
           grid.v[i] += grid.xpic_term[i];
         }
       }
+    }
+    // Ghost nodes: their projected momentum, held in their term, belongs to their partners.
+    for (Grid& grid : grids.fields) {
+      constraints.for_each_mirror(active, [&](int32_t g, int32_t partner, const Eigen::Matrix2d& R) {
+        if (!(grid.m[partner] > 0)) return;
+        const Vec2 correction = R * grid.xpic_term[g] / grid.m[partner];
+        grid.xpic_term[partner] -= correction;
+        grid.v[partner] -= correction;
+      });
+      mirror_terms(constraints, active, grid);
     }
   }
   // v_i + dt a_i already obeys the constraints; the series must too.
@@ -68,6 +90,7 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long k = 0; k < count; ++k) constrain(constraints, active[k], grid.v[active[k]]);
   }
+  mirror_velocities(constraints, grids);
 }
 
 }  // namespace talus::solver

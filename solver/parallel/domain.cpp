@@ -24,8 +24,7 @@ void particles_changed(Simulation& sim, bool all = true) {
   P.moving_count = 0;
   while (P.moving_count < P.size() && !fixed[P.body[P.moving_count]]) ++P.moving_count;
   Scratch& s = sim.scratch;
-  s.stencil.N.resize(P.size() * static_cast<std::size_t>(s.stencil.width));
-  s.stencil.row.resize(P.size());
+  resize_rows(s.stencil, P.size());
   compute_stencil(sim.config.mesh, P, all ? 0 : P.moving_count, P.size(), s.stencil, sim.config.threads);
   s.d_eps.resize(P.size(), Vec4::Zero());
   s.contact.fixed_runs.clear();
@@ -76,12 +75,21 @@ std::vector<int32_t> partition_elements(const Mesh& mesh, const std::vector<doub
   return owner;
 }
 
-// The shared nodes of this rank: nodes of its elements that also belong to another rank's.
-void set_up_halo(Domain& d, const Mesh& mesh) {
-  std::vector<std::pair<int32_t, int32_t>> node_rank;  // (node, rank) of every element corner
-  node_rank.reserve(mesh.element_count() * 3);
-  for (std::size_t e = 0; e < mesh.element_count(); ++e)
-    for (int32_t i : mesh.triangles[e]) node_rank.emplace_back(i, d.element_owner[e]);
+// The shared nodes of this rank: nodes that particles in its elements can reach and particles in
+// another rank's elements too. For linear triangles those are the element's corners; B-splines
+// reach the 4 x 4 lattice nodes around the element's cell, ghosts included (lattice.hpp).
+void set_up_halo(Domain& d, const Mesh& mesh, const Stencil& stencil) {
+  std::vector<std::pair<int32_t, int32_t>> node_rank;  // (node, rank) of every node an element reaches
+  node_rank.reserve(mesh.element_count() * (stencil.rows_per_particle() ? 16 : 3));
+  std::vector<int32_t> reach;
+  for (std::size_t e = 0; e < mesh.element_count(); ++e) {
+    if (stencil.family == ShapeFamily::QuadraticBspline) {
+      reachable_nodes(stencil.lattice, mesh, static_cast<int32_t>(e), reach);
+    } else {
+      reach.assign(mesh.triangles[e].begin(), mesh.triangles[e].end());
+    }
+    for (int32_t i : reach) node_rank.emplace_back(i, d.element_owner[e]);
+  }
   std::sort(node_rank.begin(), node_rank.end());
   node_rank.erase(std::unique(node_rank.begin(), node_rank.end()), node_rank.end());
   std::vector<std::vector<int32_t>> by_rank(static_cast<std::size_t>(d.ranks));
@@ -180,7 +188,7 @@ void distribute(Simulation& sim) {
     append_particles(P, d.field_width, kept, Q);
   }
   replace_particles(sim, std::move(Q));
-  set_up_halo(d, sim.config.mesh);
+  set_up_halo(d, sim.config.mesh, sim.scratch.stencil);
 }
 
 bool rebalance(Simulation& sim) {
@@ -192,7 +200,7 @@ bool rebalance(Simulation& sim) {
     return false;
   d.element_owner = partition_elements(sim.config.mesh, particles_per_element(sim, true), d.ranks);
   redistribute_all(sim, d.field_width);
-  set_up_halo(d, sim.config.mesh);
+  set_up_halo(d, sim.config.mesh, sim.scratch.stencil);
   ++d.repartitions;
   return true;
 }

@@ -2,6 +2,7 @@
 // particles ordered by element.
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <type_traits>
 
 #include "common/error.hpp"
@@ -79,6 +80,25 @@ void permute_particles(Particles& particles, const std::vector<int32_t>& order) 
 
 namespace {
 
+// The model's shape-function family (run.shape_functions). B-splines take the grid pattern's
+// lattice, add its ghost layer to the mesh's nodes and constraints, and step by the lattice's
+// cell: a particle crosses no more than one cell per step at CFL <= 1.
+ShapeFamily shape_family(const Model& model, Mesh& mesh, Constraints& constraints, Stencil& stencil) {
+  if (model.run.shape_functions == ShapeFunctions::Linear) return ShapeFamily::LinearTriangle;
+  std::optional<Lattice> lattice = find_lattice(mesh);
+  if (!lattice)
+    throw Error("model: run.shape_functions = \"bspline\" needs the grid pattern's background mesh "
+                "(mesh.pattern = \"grid\": a lattice of cells over the domain's rectangle)");
+  if (model.run.evs)
+    throw Error("model: run.evs: enhanced volumetric strain is for linear triangles; B-splines do not use it");
+  if (model.run.full_cell_fill > 0)
+    throw Error("model: run.integration = \"mixed\" is for linear triangles; B-splines integrate at the particles");
+  add_ghost_layer(*lattice, mesh, constraints);
+  mesh.h_min = lattice->spacing.minCoeff();
+  stencil.lattice = std::move(*lattice);
+  return ShapeFamily::QuadraticBspline;
+}
+
 // make_simulation; with `owned` (the same object as model) the model's particle columns are
 // moved into the simulation and its other per-particle columns released.
 Simulation build_simulation(const Model& model, Model* owned, int threads) {
@@ -86,6 +106,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   Config& config = sim.config;
   config.mesh = build_mesh(model);
   config.constraints = build_constraints(model);
+  const ShapeFamily family = shape_family(model, config.mesh, config.constraints, sim.scratch.stencil);
   config.gravity = model.run.gravity;
   config.gravity_ramp = model.run.gravity_ramp;
   config.damping = model.run.damping;
@@ -106,7 +127,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   sim.particles = particles_of(model, owned, config);
   if (owned) release_particles(*owned);
   initial_pore_pressures(sim.particles, config, 0);
-  reset_stencil(sim.scratch.stencil, ShapeFamily::LinearTriangle, config.mesh, sim.particles.size());
+  reset_stencil(sim.scratch.stencil, family, config.mesh, sim.particles.size());
   sort_particles(sim);
   sim.reorders = 0;
 

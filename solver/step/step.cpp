@@ -60,6 +60,7 @@ bool step(Simulation& sim, double dt) {
   particles_to_grid({P, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), s.load_factor, s.cell_scale}, s.grids,
                     s.buffers, threads);
   if (distributed) exchange_grid_sums(sim);
+  fold_ghosts(c.constraints, s.grids);
   clock.lap(PhaseTimes::ToGrid);
 
   // (A.9): a_i = f_i / m_i, constrained by the boundary conditions; contact corrects it.
@@ -69,15 +70,19 @@ bool step(Simulation& sim, double dt) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
     find_contact_nodes(contact, P, s.stencil, s.grids, s.contact, threads, distributed ? &sim.domain : nullptr);
     apply_contact(contact, dt, s.contact, s.grids, threads);
+    mirror_accelerations(c.constraints, s.grids);
     clock.lap(PhaseTimes::Contact);
   }
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
     // The particles take a grid velocity rather than its increment: PIC's v_i + dt a_i, which
     // XPIC(m) then extends with the part of the particle velocities the grid can represent.
-    lagrangian_grid_velocities(dt, s.grids, threads);
+    lagrangian_grid_velocities(c.constraints, dt, s.grids, threads);
     if (c.xpic_order > 1) {
       add_xpic_terms(P, s.stencil, c.constraints, c.xpic_order, s.grids, s.buffers, threads);
-      if (c.contact) apply_contact_velocities(contact, s.contact, s.grids, threads);
+      if (c.contact) {
+        apply_contact_velocities(contact, s.contact, s.grids, threads);
+        mirror_velocities(c.constraints, s.grids);
+      }
     }
     clock.lap(PhaseTimes::GridVelocity);
   }
@@ -92,7 +97,10 @@ bool step(Simulation& sim, double dt) {
   } else {
     remap_grid_velocities(c.constraints, c.field_fixed, s.grids, s.buffers, threads);
   }
-  if (c.contact) apply_contact_velocities(contact, s.contact, s.grids, threads);
+  if (c.contact) {
+    apply_contact_velocities(contact, s.contact, s.grids, threads);
+    mirror_velocities(c.constraints, s.grids);
+  }
   clock.lap(PhaseTimes::Remap);
 
   // (A.12): x_p += dt sum N_ip v_i; the strain increment and the stress's rotation.

@@ -74,18 +74,10 @@ double frame_difference(const std::string& a, const std::string& b, std::string&
 
 std::string source_path(const std::string& relative) { return std::string(TALUS_SOURCE_DIR) + "/" + relative; }
 
-Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
-  Model model;
-  model.scene_name = "rectangle";
-  auto node = [&](int i, int j) { return j * (nx + 1) + i; };
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) model.nodes.emplace_back(x0 + i * h, y0 + j * h);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      model.triangles.push_back({node(i, j), node(i + 1, j), node(i + 1, j + 1)});
-      model.triangles.push_back({node(i, j), node(i + 1, j + 1), node(i, j + 1)});
-    }
-  // Neighbours from shared edges: the edge opposite local vertex k joins the other two.
+namespace {
+
+// Element neighbours from shared edges: the edge opposite local vertex k joins the other two.
+void fill_neighbours(Model& model) {
   std::map<std::pair<int, int>, std::pair<int, int>> edge_owner;
   model.neighbours.assign(model.triangles.size(), {-1, -1, -1});
   for (int e = 0; e < static_cast<int>(model.triangles.size()); ++e)
@@ -100,6 +92,15 @@ Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
         model.neighbours[found->second.first][found->second.second] = e;
       }
     }
+}
+
+// The rectangle's corner nodes, row by row, and its four sides as node sets.
+Model rectangle_corners(double x0, double y0, int nx, int ny, double h) {
+  Model model;
+  model.scene_name = "rectangle";
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) model.nodes.emplace_back(x0 + i * h, y0 + j * h);
+  auto node = [&](int i, int j) { return j * (nx + 1) + i; };
   for (int i = 0; i <= nx; ++i) {
     model.node_sets["bottom"].push_back(node(i, 0));
     model.node_sets["top"].push_back(node(i, ny));
@@ -108,6 +109,34 @@ Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
     model.node_sets["left"].push_back(node(0, j));
     model.node_sets["right"].push_back(node(nx, j));
   }
+  return model;
+}
+
+}  // namespace
+
+Model rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
+  Model model = rectangle_corners(x0, y0, nx, ny, h);
+  auto node = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      model.triangles.push_back({node(i, j), node(i + 1, j), node(i + 1, j + 1)});
+      model.triangles.push_back({node(i, j), node(i + 1, j + 1), node(i, j + 1)});
+    }
+  fill_neighbours(model);
+  return model;
+}
+
+Model crossed_rectangle_mesh(double x0, double y0, int nx, int ny, double h) {
+  Model model = rectangle_corners(x0, y0, nx, ny, h);
+  auto node = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int32_t centre = static_cast<int32_t>(model.nodes.size());
+      model.nodes.emplace_back(x0 + (i + 0.5) * h, y0 + (j + 0.5) * h);
+      const int32_t corner[4] = {node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)};
+      for (int k = 0; k < 4; ++k) model.triangles.push_back({corner[k], corner[(k + 1) % 4], centre});
+    }
+  fill_neighbours(model);
   return model;
 }
 

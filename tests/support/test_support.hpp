@@ -52,6 +52,10 @@ std::string source_path(const std::string& relative);
 // square cut into two counter-clockwise triangles, with neighbours filled in and node sets
 // "bottom", "top", "left", "right". No particles, bodies or materials.
 Model rectangle_mesh(double x0, double y0, int nx, int ny, double h);
+// The same rectangle as the grid pattern meshes it (preproc/lattice.cpp): each square cut by its
+// diagonals into four triangles; the squares' corners are the first nodes, row by row, then
+// their centres. The B-spline family's lattice.
+Model crossed_rectangle_mesh(double x0, double y0, int nx, int ny, double h);
 
 // Adds a body of one material filling the box [x0, x1] x [y0, y1] of the mesh: particles at
 // the four-point barycentric positions of every triangle whose centroid lies in the box,
