@@ -182,14 +182,6 @@ inline double grown_volume(double volume, double trace, const double* initial_vo
   return trace > 0 ? std::min(volume * (1 + trace), kMaxVolumeGrowth * initial_volume[id]) : volume * (1 + trace);
 }
 
-// The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
-// kMaxVolumeGrowth V_p(0), with d_eps as EVS leaves it (StrainIncrement); an isolated particle
-// instead drops its stress and keeps its volume.
-// Returns the last (largest index) particle whose state became non-finite or inverted, or -1.
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
-                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
-                     const std::vector<double>& initial_volume, int threads);
-
 // Finds each moving particle's element (neighbour walk) and recomputes its stencil row.
 // Returns the last particle that left the domain, or -1.
 long relocate_particles(const Mesh& mesh, Particles& P, Stencil& stencil, int threads);
