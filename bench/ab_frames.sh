@@ -11,7 +11,7 @@
 set -uo pipefail
 old="$1"; new="$2"; filter="${3:-}"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-work="${AB_FRAMES_WORK:-$(mktemp -d)}"
+work="${AB_FRAMES_WORK:-$(mktemp -d)}"; mkdir -p "$work"
 [ -n "${AB_FRAMES_WORK:-}" ] || trap 'rm -rf "$work"' EXIT
 python=/usr/bin/python3
 g="$root/geometries"

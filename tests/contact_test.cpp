@@ -257,7 +257,7 @@ TEST(ContactDiscs, HeadOnImpactConservesMomentumAndSeparates) {
   while (sim.time < model.run.end_time) {
     const double gap_before = gap();  // the positions this step's contact nodes are found from
     ASSERT_TRUE(step(sim, stable_time_step(sim, 0.5)));
-    const long shared = shared_nodes(), touching = static_cast<long>(sim.scratch.contact_nodes.size());
+    const long shared = shared_nodes(), touching = static_cast<long>(sim.scratch.contact.nodes.size());
     ASSERT_LE(touching, shared) << "at t = " << sim.time;
     if (touching > 0 && contact_steps == 0) gap_at_first_contact = gap_before;
     contact_steps += touching > 0;

@@ -42,8 +42,8 @@ void map_to_grid(Simulation& sim) {
   Scratch& s = sim.scratch;
   const int threads = sim.config.threads;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, threads);
-  particles_to_grid(sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), {}, {}, s.grids, s.buffers,
-                    threads);
+  particles_to_grid({sim.particles, s.stencil, sim.config.mesh.nodes, gravity_at(sim.config, sim.time), {}, {}}, s.grids,
+                    s.buffers, threads);
 }
 
 }  // namespace
@@ -426,8 +426,8 @@ TEST(MixedIntegration, CellsInsideTheMaterialTakeTheirAreaAndCellsAtItsSurfaceTh
     auto edge_forces = [&](bool mixed) {
       if (mixed) full_cell_scales(c.mesh, sim.particles, c.full_cell_fill, s.cell_volume, s.cell_scale, c.threads);
       mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, c.threads);
-      particles_to_grid(sim.particles, s.stencil, c.mesh.nodes, Vec2::Zero(), {},
-                        mixed ? s.cell_scale : std::vector<double>{}, s.grids, s.buffers, c.threads);
+      const std::vector<double> scale = mixed ? s.cell_scale : std::vector<double>{};
+      particles_to_grid({sim.particles, s.stencil, c.mesh.nodes, Vec2::Zero(), {}, scale}, s.grids, s.buffers, c.threads);
       Vec2 sums = Vec2::Zero();
       for (int32_t i : s.grids.active) {
         const Vec2& x = c.mesh.nodes[i];

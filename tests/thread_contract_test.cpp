@@ -15,6 +15,7 @@
 
 #include "solver/parallel/threads.hpp"
 #include "solver/step/step.hpp"
+#include "solver/stress/stress.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;

@@ -9,6 +9,7 @@
 
 #include "solver/io/checkpoint.hpp"
 #include "solver/step/step.hpp"
+#include "solver/stress/stress.hpp"
 #include "support/test_support.hpp"
 
 using namespace talus;
@@ -43,7 +44,8 @@ void update_velocities(Simulation& sim, double dt) {
   const Config& c = sim.config;
   Scratch& s = sim.scratch;
   mark_active_nodes(s.stencil, sim.particles.size(), s.node_stamp, s.stamp, s.grids, c.threads);
-  particles_to_grid(sim.particles, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), {}, {}, s.grids, s.buffers, c.threads);
+  particles_to_grid({sim.particles, s.stencil, c.mesh.nodes, gravity_at(c, sim.time), {}, {}}, s.grids, s.buffers,
+                    c.threads);
   update_grid_accelerations(c.constraints, c.body_fixed, c.damping, dt, s.grids, c.threads);
   if (c.transfer == Transfer::Xpic || c.transfer == Transfer::Apic) {
     lagrangian_grid_velocities(dt, s.grids, c.threads);

@@ -12,8 +12,8 @@
 #include <cmath>
 #include <limits>
 
+#include "solver/contact/contact.hpp"
 #include "solver/parallel/domain.hpp"
-#include "solver/step/step.hpp"
 
 namespace talus::solver {
 namespace {
@@ -52,11 +52,11 @@ void outward_normals(const ContactRules& rules, const Grids& grids, int32_t i, V
 // `on_change(b, delta)` receives each body's correction, already stripped of any component
 // the node's constraint forbids.
 template <class Velocity, class OnChange>
-void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, int32_t i, Velocity velocity,
-                  OnChange on_change) {
+void correct_node(const ContactRules& rules, const ContactScratch& contact, const Grids& grids, std::size_t k,
+                  int32_t i, Velocity velocity, OnChange on_change) {
   const std::size_t bodies = grids.fields.size();
-  const uint8_t* touching = &grids.touching[k * bodies];
-  const Vec2* normal = &grids.contact_normal[k * bodies];
+  const uint8_t* touching = &contact.touching[k * bodies];
+  const Vec2* normal = &contact.normal[k * bodies];
   bool rigid = false;
   double m = 0;
   Vec2 momentum = Vec2::Zero();
@@ -98,9 +98,10 @@ void correct_node(const ContactRules& rules, const Grids& grids, std::size_t k, 
 
 }  // namespace
 
-void find_contact_nodes(const ContactRules& rules, const Particles& P, const Stencil& S, Grids& grids,
-                        std::vector<int32_t>& contact_nodes, int threads, Domain* domain) {
+void find_contact_nodes(const ContactRules& rules, const Particles& P, const Stencil& S, const Grids& grids,
+                        ContactScratch& contact, int threads, Domain* domain) {
   const std::size_t bodies = grids.fields.size();
+  std::vector<int32_t>& contact_nodes = contact.nodes;
   // Candidates: the nodes where two or more bodies have mass (serial: one look at each active
   // node's body masses is small beside P2G).
   contact_nodes.clear();
@@ -112,12 +113,12 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
   const std::size_t candidates = contact_nodes.size();
   if (candidates == 0 && !domain) return;  // bodies apart: no particle pass (ranks still swap extents)
 
-  auto& slot = grids.contact_slot;
+  auto& slot = contact.slot;
   if (slot.size() != grids.fields[0].m.size()) slot.assign(grids.fields[0].m.size(), -1);
-  grids.contact_normal.resize(candidates * bodies);
+  contact.normal.resize(candidates * bodies);
   for (std::size_t k = 0; k < candidates; ++k) {
     slot[contact_nodes[k]] = static_cast<int32_t>(k);
-    outward_normals(rules, grids, contact_nodes[k], &grids.contact_normal[k * bodies]);
+    outward_normals(rules, grids, contact_nodes[k], &contact.normal[k * bodies]);
   }
 
   // Each body's extent along each moving body's normal at the candidates: how far body b
@@ -126,8 +127,8 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
   // minima do not depend on the order of the threads.
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   const std::size_t width = candidates * bodies * bodies;
-  grids.extents.resize(static_cast<std::size_t>(threads));
-  auto& runs = grids.fixed_runs;
+  contact.extents.resize(static_cast<std::size_t>(threads));
+  auto& runs = contact.fixed_runs;
   if (runs.empty() || runs.back() != P.size() || runs.front() != P.moving_count) {
     runs.clear();
     for (std::size_t p = P.moving_count; p < P.size(); ++p)
@@ -150,7 +151,7 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
         const int32_t k = slot[nodes[j]];
         if (k < 0) continue;
         for (std::size_t b = 0; b < bodies; ++b) {
-          const Vec2& normal = grids.contact_normal[k * bodies + b];
+          const Vec2& normal = contact.normal[k * bodies + b];
           if (normal.isZero()) continue;
           const double along = P.x[p].dot(normal);
           double& e = extent[(k * bodies + b) * bodies + c];
@@ -160,7 +161,7 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
     };
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<double>& extent = grids.extents[omp_get_thread_num()];
+    std::vector<double>& extent = contact.extents[omp_get_thread_num()];
     extent.resize(width);
     for (std::size_t e = 0; e < width; e += bodies)
       for (std::size_t c = 0; c < bodies; ++c) extent[e + c] = (e / bodies) % bodies == c ? -kInfinity : kInfinity;
@@ -181,25 +182,25 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
   }
   });
 
-  if (domain) exchange_contact_extents(*domain, contact_nodes, bodies, grids);
+  if (domain) exchange_contact_extents(*domain, contact_nodes, bodies, contact);
 
   // Body b touches body c at a node when c begins before b's front ends along b's normal.
   // A fixed body takes part where a moving body touches it.
-  grids.touching.assign(candidates * bodies, 0);
+  contact.touching.assign(candidates * bodies, 0);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < candidates; ++k) {
     slot[contact_nodes[k]] = -1;
-    uint8_t* touching = &grids.touching[kept * bodies];
+    uint8_t* touching = &contact.touching[kept * bodies];
     bool any = false;
     for (std::size_t b = 0; b < bodies; ++b) {
-      if (grids.contact_normal[k * bodies + b].isZero()) continue;
+      if (contact.normal[k * bodies + b].isZero()) continue;
       const std::size_t row = (k * bodies + b) * bodies;
       double front = -kInfinity;
-      for (const auto& extent : grids.extents) front = std::max(front, extent[row + b]);
+      for (const auto& extent : contact.extents) front = std::max(front, extent[row + b]);
       for (std::size_t c = 0; c < bodies; ++c) {
         if (c == b) continue;
         double begins = kInfinity;
-        for (const auto& extent : grids.extents) begins = std::min(begins, extent[row + c]);
+        for (const auto& extent : contact.extents) begins = std::min(begins, extent[row + c]);
         if (begins <= front) touching[b] = touching[c] = 1, any = true;
       }
     }
@@ -208,15 +209,15 @@ void find_contact_nodes(const ContactRules& rules, const Particles& P, const Ste
       continue;
     }
     for (std::size_t b = 0; b < bodies; ++b)
-      grids.contact_normal[kept * bodies + b] = grids.contact_normal[k * bodies + b];
+      contact.normal[kept * bodies + b] = contact.normal[k * bodies + b];
     contact_nodes[kept++] = contact_nodes[k];
   }
   contact_nodes.resize(kept);
-  grids.touching.resize(kept * bodies);
+  contact.touching.resize(kept * bodies);
 }
 
-void apply_contact(const ContactRules& rules, double dt, const std::vector<int32_t>& nodes, Grids& grids,
-                   int threads) {
+void apply_contact(const ContactRules& rules, double dt, const ContactScratch& contact, Grids& grids, int threads) {
+  const std::vector<int32_t>& nodes = contact.nodes;
   const long count = static_cast<long>(nodes.size());
   if (count == 0) return;  // bodies apart: not even a thread team
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -226,19 +227,19 @@ void apply_contact(const ContactRules& rules, double dt, const std::vector<int32
       const Grid& grid = grids.fields[b];
       return grid.p[i] / grid.m[i] + dt * grid.a[i];
     };
-    correct_node(rules, grids, static_cast<std::size_t>(k), i, trial_velocity,
+    correct_node(rules, contact, grids, static_cast<std::size_t>(k), i, trial_velocity,
                  [&](std::size_t b, const Vec2& delta) { grids.fields[b].a[i] += delta / dt; });
   }
 }
 
-void apply_contact_velocities(const ContactRules& rules, const std::vector<int32_t>& nodes, Grids& grids,
-                              int threads) {
+void apply_contact_velocities(const ContactRules& rules, const ContactScratch& contact, Grids& grids, int threads) {
+  const std::vector<int32_t>& nodes = contact.nodes;
   const long count = static_cast<long>(nodes.size());
   if (count == 0) return;
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long k = 0; k < count; ++k) {
     const int32_t i = nodes[k];
-    correct_node(rules, grids, static_cast<std::size_t>(k), i,
+    correct_node(rules, contact, grids, static_cast<std::size_t>(k), i,
                  [&](std::size_t b) -> Vec2 { return grids.fields[b].v[i]; },
                  [&](std::size_t b, const Vec2& delta) { grids.fields[b].v[i] += delta; });
   }

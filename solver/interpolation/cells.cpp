@@ -1,5 +1,5 @@
-// The cell pass (step.hpp): each element's particle count, for the isolated-particle rule, and
-// enhanced volumetric strain's sums (Detournay and Dzik 2006; seed section 4; design.md): the
+// The cell passes (interpolation.hpp). Each element's particle count, for the isolated-particle
+// rule, and enhanced volumetric strain's sums (Detournay and Dzik 2006; seed section 4; design.md): the
 // volumetric strain increment of each cell (volume-weighted over its particles) -> nodes
 // (area-weighted over the cells with particles); the stress update takes the mean over each
 // particle's stencil nodes (StrainIncrement) as the volumetric part of its increment.
@@ -7,7 +7,7 @@
 
 #include <atomic>
 
-#include "solver/step/step.hpp"
+#include "solver/interpolation/interpolation.hpp"
 
 namespace talus::solver {
 
@@ -111,6 +111,52 @@ void sum_cells(const Mesh& mesh, const Particles& P, bool evs_on, const std::vec
         evs.node_area[i] = node_area;
       }
     }
+  }
+}
+
+void full_cell_scales(const Mesh& mesh, const Particles& P, double full_fill,
+                      std::vector<std::vector<double>>& cell_volume, std::vector<double>& scale, int threads) {
+  const long n = static_cast<long>(P.size());
+  const long elements = static_cast<long>(mesh.element_count());
+#pragma omp parallel num_threads(threads)
+  {
+    // Each thread sums into its own array (a run of one cell at a time); the arrays are then
+    // added in thread order, so the factors do not depend on the schedule.
+    std::vector<double>& volume = cell_volume[omp_get_thread_num()];
+    int32_t run_element = -1;
+    double run_volume = 0;
+#pragma omp for schedule(static) nowait
+    for (long p = 0; p < n; ++p) {
+      const int32_t e = P.element[p];
+      if (e != run_element) {
+        if (run_element >= 0) volume[run_element] += run_volume;
+        run_element = e, run_volume = 0;
+      }
+      run_volume += P.volume[p];
+    }
+    if (run_element >= 0) volume[run_element] += run_volume;
+#pragma omp barrier
+    const std::size_t team = cell_volume.size();
+    std::vector<double>& fill = cell_volume[0];  // the sums, then each cell's fill
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      double sum = fill[e];
+      for (std::size_t t = 1; t < team; ++t) sum += cell_volume[t][e], cell_volume[t][e] = 0;
+      fill[e] = sum / mesh.area[e];
+    }
+    // Full: the cell and each cell across its edges (inside the mesh) are filled to full_fill.
+    // A cell that lost a particle to its neighbour stays full; a cell at a free surface does not.
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) {
+      bool full = fill[e] >= full_fill;
+      for (int k = 0; k < 3 && full; ++k) {
+        const int32_t across = mesh.neighbours[e][k];
+        full = across < 0 || fill[across] >= full_fill;
+      }
+      scale[e] = full ? 1.0 / fill[e] : 1.0;
+    }
+#pragma omp for schedule(static)
+    for (long e = 0; e < elements; ++e) fill[e] = 0;
   }
 }
 

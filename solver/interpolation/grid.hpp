@@ -4,6 +4,7 @@
 // step only where active.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "solver/interpolation/mesh.hpp"
@@ -17,7 +18,7 @@ struct Grid {
   std::vector<Vec2> a;     // acceleration
   std::vector<Vec2> v;     // velocity after the remap (A.11)
   std::vector<Vec2> mass_gradient;  // sum m_p grad N_ip: the outward normal (contact only)
-  std::vector<Vec2> xpic_term;      // XPIC(m > 1) only: the latest term of its series (transfer.cpp)
+  std::vector<Vec2> xpic_term;      // XPIC(m > 1) only: the latest term of its series (xpic.cpp)
 };
 
 struct Grids {
@@ -28,18 +29,6 @@ struct Grids {
   // [body] -> its field: with contact its group's (ContactGroups; body b's own without bonded
   // pairs), else 0.
   std::vector<int32_t> field_index;
-  // Contact (contact.cpp), rebuilt each step. For each listed contact node k and field b:
-  // whether b takes part in the contact there, and b's outward unit normal (zero for a fixed
-  // field). While listing: each candidate node's index (else -1), and per thread the extents of
-  // the fields along each normal.
-  std::vector<uint8_t> touching;             // [k * bodies + b]
-  std::vector<Vec2> contact_normal;          // [k * bodies + b]
-  std::vector<int32_t> contact_slot;         // [node]
-  std::vector<std::vector<double>> extents;  // [thread][(k * bodies + b) * bodies + c], m
-  // The fixed particles [moving_count, size) in runs that share a stencil row, each run's first
-  // particle and a final end: fixed particles never move and keep their order.
-  std::vector<std::size_t> fixed_runs;
-
   // One load, no branch: P2G's loop over the fixed particles does little else per particle.
   int field_of(int32_t body) const { return field_index[body]; }
 };
@@ -51,5 +40,23 @@ struct NodeBuffer {
 };
 
 using ThreadBuffers = std::vector<std::vector<NodeBuffer>>;  // [thread][field]
+
+// The threads' scatters at node i of one field's `member` (m, p, f or mass_gradient), added in
+// thread order so that the sum does not depend on the schedule, each entry cleared as it is
+// read: between the phases every buffer is zero. Every per-thread buffer of the step is reduced
+// by this one function (P2G, the remap, XPIC's projections).
+template <class T>
+T take_thread_sum(ThreadBuffers& buffers, std::size_t field, std::vector<T> NodeBuffer::*member, int32_t i) {
+  T zero;
+  if constexpr (std::is_arithmetic_v<T>) zero = 0;
+  else zero.setZero();
+  T sum = zero;
+  for (auto& mine : buffers) {
+    T& value = (mine[field].*member)[i];
+    sum += value;
+    value = zero;
+  }
+  return sum;
+}
 
 }  // namespace talus::solver

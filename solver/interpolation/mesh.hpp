@@ -1,5 +1,6 @@
 // The background mesh as the solver uses it: linear triangles with their precomputed shape
-// functions, neighbours for the relocation walk, and the per-node boundary constraints.
+// functions and neighbours for the relocation walk (the nodes' boundary conditions are
+// solver/boundary's).
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -84,47 +85,6 @@ inline int32_t locate(const MeshTables& mesh, int32_t start, const Vec2& x, Vec3
     if (e < 0) return -1;
   }
   return -1;
-}
-
-// Per-node boundary constraints on the velocity.
-enum class Constraint : uint8_t { Free = 0, Fixed = 1, Roller = 2, Friction = 3 };
-
-struct Constraints {
-  std::vector<Constraint> kind;
-  // Roller: unit normal, the velocity along it is zero. Friction: the outward unit normal.
-  std::vector<Vec2> normal;
-  std::vector<double> friction;  // Coulomb coefficient of a friction node, else 0
-};
-
-Constraints build_constraints(const Model& model);
-
-// Brings node i's velocity (or acceleration) to what its constraint allows. Fixed: zero.
-// Roller: no component along the normal. Friction (Coulomb, unilateral): a velocity into the
-// boundary, v.n > 0 with n outward, loses that component, and its tangential part is reduced
-// by at most mu (v.n), to zero if smaller; a velocity away from the boundary is left free.
-// Applied to the end-of-step velocity this is the impulse of a normal force and its Coulomb
-// friction over the step: a block on an incline slides at g (sin theta - mu cos theta).
-inline void constrain(const Constraints& c, int32_t i, Vec2& value) {
-  const Constraint kind = c.kind[i];
-  if (kind == Constraint::Fixed) value.setZero();
-  else if (kind == Constraint::Roller) value -= value.dot(c.normal[i]) * c.normal[i];
-  else if (kind == Constraint::Friction) {
-    const double into = value.dot(c.normal[i]);
-    if (into <= 0) return;
-    value -= into * c.normal[i];
-    const double slip = value.norm();
-    const double resisted = c.friction[i] * into;
-    if (slip <= resisted) value.setZero();
-    else value *= 1 - resisted / slip;
-  }
-}
-
-// Strips from a correction `delta` of node i's velocity (contact) what would break its
-// constraint, for a velocity that already obeys it: fixed, nothing; roller and friction, the
-// component along the normal (friction is not applied to a correction).
-inline void constrain_change(const Constraints& c, int32_t i, Vec2& delta) {
-  if (c.kind[i] == Constraint::Fixed) delta.setZero();
-  else if (c.kind[i] != Constraint::Free) delta -= delta.dot(c.normal[i]) * c.normal[i];
 }
 
 }  // namespace talus::solver

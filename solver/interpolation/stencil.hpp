@@ -36,6 +36,14 @@ enum class ShapeFamily {
 // particles on the stack.
 constexpr int kMaxStencilWidth = 16;
 
+// Entries a phase keeps for a stencil of width W as with_width gives it: W itself when it is a
+// compile-time constant (small arrays the compiler can keep in registers), else the widest.
+template <class Width>
+constexpr int entries_for() {
+  if constexpr (std::is_integral_v<Width>) return kMaxStencilWidth;
+  else return Width::value;
+}
+
 struct Stencil {
   ShapeFamily family = ShapeFamily::LinearTriangle;
   int width = 3;                  // entries per particle
@@ -45,6 +53,10 @@ struct Stencil {
   // grad N_ip (1/m), [row * width + k]: shared, never written through (linear triangles: the
   // mesh's). A copy of the stencil shares it too, so the raw pointer the phases read stays valid.
   std::shared_ptr<const std::vector<Vec2>> row_dN;
+  // APIC's inverse inertia, D_p^-1 = inverse_inertia I (Jiang et al. 2015; quadratic B-splines
+  // 4 / h^2); 0 for linear shape functions, whose affine matrix is sum v_i grad N_ip^T
+  // (to_particles.cpp, affine_matrix).
+  double inverse_inertia = 0;
   void share_gradients(std::shared_ptr<const std::vector<Vec2>> table) {
     row_dN = std::move(table);
     dN_ = row_dN->data();
@@ -103,26 +115,19 @@ inline const double* Stencil::weights(std::size_t p) const { return StencilView(
 inline const int32_t* Stencil::nodes(std::size_t p) const { return StencilView(*this, width).nodes(p); }
 inline const Vec2* Stencil::gradients(std::size_t p) const { return StencilView(*this, width).gradients(p); }
 
-// Sizes the stencil for `particles` particles of the family on `mesh` (and fills the shared
-// gradient table where the family has one).
-void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::size_t particles);
-
-// Fills the entries of particles [begin, end) from their positions and elements.
-void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
-                     Stencil& stencil, int threads = 1);
-
-// Fills particle p's entries (StencilRows::fill): the relocation and compute_stencil call it for
-// each particle they have located in `element`, with the element's barycentric weights at the
-// particle (locate's). StencilRows holds the stencil's data pointers, taken once (StencilView),
-// for a loop that fills a row for every particle; a null stencil fills nothing.
+// Fills particle p's entries from where it is: its position x, the element that contains it and
+// x's barycentric weights there, which the relocation walk finds anyway (relocate.cpp,
+// compute_stencil). StencilRows holds the stencil's data pointers, taken once (StencilView), for
+// a loop that fills a row for every particle; a null stencil fills nothing.
 class StencilRows {
  public:
   explicit StencilRows(Stencil* stencil)
       : N_(stencil ? stencil->N.data() : nullptr), row_(stencil ? stencil->row.data() : nullptr) {}
-  void fill(const Vec3& weights, int32_t element, std::size_t p) const {
-    // LinearTriangle is the only family so far; a second one switches on the family here.
+  void fill(std::size_t p, const Vec2& x, int32_t element, const Vec3& barycentric) const {
+    // Linear triangles (the only family so far; a second one switches on Stencil::family here):
+    // the weights are the barycentric ones and the row is the element's.
     double* N = N_ + p * 3;
-    for (int k = 0; k < 3; ++k) N[k] = weights[k];
+    for (int k = 0; k < 3; ++k) N[k] = barycentric[k];
     row_[p] = element;  // the element's row of the tables reset_stencil built
   }
 

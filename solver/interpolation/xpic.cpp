@@ -13,22 +13,9 @@
 // is PIC, and m -> infinity is FLIP less its null-space noise.
 #include <omp.h>
 
-#include "solver/step/step.hpp"
+#include "solver/interpolation/interpolation.hpp"
 
 namespace talus::solver {
-
-void lagrangian_grid_velocities(double dt, Grids& grids, int threads) {
-  const auto& active = grids.active;
-  const long count = static_cast<long>(active.size());
-  for (Grid& grid : grids.fields) {
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (long k = 0; k < count; ++k) {
-      const int32_t i = active[k];
-      // Empty nodes and a fixed body's field carry no momentum (update_grid_accelerations).
-      grid.v[i] = grid.m[i] > 0 ? Vec2(grid.p[i] / grid.m[i] + dt * grid.a[i]) : Vec2::Zero();
-    }
-  }
-}
 
 void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& constraints, int order, Grids& grids,
                     ThreadBuffers& buffers, int threads) {
@@ -36,7 +23,6 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
   const long count = static_cast<long>(active.size());
   const long moving = static_cast<long>(P.moving_count);
   const int W = S.width;
-  const std::size_t team = buffers.size();
   // The series starts from P2G's velocity v_i = p_i / m_i.
   for (Grid& grid : grids.fields) {
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -69,11 +55,7 @@ void add_xpic_terms(const Particles& P, const Stencil& S, const Constraints& con
         const int32_t i = active[k];
         for (std::size_t field = 0; field < grids.fields.size(); ++field) {
           Grid& grid = grids.fields[field];
-          Vec2 projected = Vec2::Zero();
-          for (std::size_t t = 0; t < team; ++t) {
-            projected += buffers[t][field].p[i];
-            buffers[t][field].p[i].setZero();
-          }
+          const Vec2 projected = take_thread_sum(buffers, field, &NodeBuffer::p, i);
           if (!(grid.m[i] > 0)) continue;
           grid.xpic_term[i] -= projected / grid.m[i];
           grid.v[i] += grid.xpic_term[i];

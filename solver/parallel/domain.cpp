@@ -89,7 +89,7 @@ void particles_changed(Simulation& sim, bool all = true) {
   s.stencil.row.resize(P.size());
   compute_stencil(sim.config.mesh, P, all ? 0 : P.moving_count, P.size(), s.stencil, sim.config.threads);
   s.d_eps.resize(P.size(), Vec4::Zero());
-  s.grids.fixed_runs.clear();
+  s.contact.fixed_runs.clear();
 }
 
 // Replaces the particles by Q (moving ones first) and updates what depends on them.
@@ -417,18 +417,19 @@ void exchange_evs_sums(Simulation& sim) {
       active, add_in_order);
 }
 
-void exchange_contact_extents(Domain& d, const std::vector<int32_t>& candidates, std::size_t bodies, Grids& grids) {
+void exchange_contact_extents(Domain& d, const std::vector<int32_t>& candidates, std::size_t bodies,
+                              ContactScratch& contact) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   const std::size_t row = bodies * bodies;
   // The threads' extents into extents[0], which alone is read afterwards.
-  auto& first = grids.extents[0];
-  for (std::size_t t = 1; t < grids.extents.size(); ++t)
+  auto& first = contact.extents[0];
+  for (std::size_t t = 1; t < contact.extents.size(); ++t)
     for (std::size_t j = 0; j < candidates.size() * row; ++j) {
       const std::size_t b = (j / bodies) % bodies, c = j % bodies;
-      first[j] = b == c ? std::max(first[j], grids.extents[t][j]) : std::min(first[j], grids.extents[t][j]);
+      first[j] = b == c ? std::max(first[j], contact.extents[t][j]) : std::min(first[j], contact.extents[t][j]);
     }
-  grids.extents.resize(1);
-  const auto& slot = grids.contact_slot;
+  contact.extents.resize(1);
+  const auto& slot = contact.slot;
   halo_exchange(
       d, static_cast<int>(row),
       [&](int32_t i, double* out) {

@@ -95,9 +95,10 @@ inline void add_in_order(double& acc, double value, int) { acc += value; }
 void exchange_grid_sums(Simulation& sim);
 void exchange_remap_momentum(Simulation& sim);
 void exchange_evs_sums(Simulation& sim);
-// Contact: the extents per candidate node (grids.extents, combined over the threads into
+// Contact: the extents per candidate node (contact.extents, combined over the threads into
 // extents[0]): maxima of the fronts, minima of where bodies begin.
-void exchange_contact_extents(Domain& d, const std::vector<int32_t>& candidates, std::size_t bodies, Grids& grids);
+void exchange_contact_extents(Domain& d, const std::vector<int32_t>& candidates, std::size_t bodies,
+                              ContactScratch& contact);
 // XPIC: the projected momentum of one power of S+S, held in the fields' xpic scratch.
 void exchange_xpic_momentum(Simulation& sim, std::vector<std::vector<Vec2>>& projected);
 

@@ -9,21 +9,6 @@
 
 namespace talus::solver {
 
-double ramp_factor(double t, double T) {
-  if (t >= T) return 1;
-  return 0.5 * (1 - std::cos(M_PI * t / T));
-}
-
-Vec2 gravity_at(const Config& config, double t) {
-  if (t >= config.gravity_ramp) return config.gravity;
-  return ramp_factor(t, config.gravity_ramp) * config.gravity;
-}
-
-void load_factors(const Config& config, double t, std::vector<double>& factors) {
-  factors.resize(config.load_ramp.size());
-  for (std::size_t L = 0; L < factors.size(); ++L) factors[L] = ramp_factor(t, config.load_ramp[L]);
-}
-
 double stable_time_step(const Simulation& sim, double cfl) {
   double wave_speed = 0;
   for (const auto& material : sim.config.materials) wave_speed = std::max(wave_speed, material.wave_speed);

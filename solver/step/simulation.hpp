@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "common/model/model.hpp"
+#include "solver/boundary/boundary.hpp"
+#include "solver/contact/contact.hpp"
+#include "solver/interpolation/interpolation.hpp"
 #include "solver/parallel/domain_state.hpp"
-#include "solver/interpolation/grid.hpp"
-#include "solver/stress/material_state.hpp"
-#include "solver/interpolation/mesh.hpp"
 #include "solver/step/particles.hpp"
-#include "solver/interpolation/stencil.hpp"
+#include "solver/stress/material_state.hpp"
 
 namespace talus::solver {
 
@@ -47,18 +47,6 @@ struct Config {
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
 };
 
-// Enhanced volumetric strain sums: per-thread element sums (added in thread order, so the
-// result does not depend on timing), their totals, and the node averages.
-struct EvsScratch {
-  std::vector<std::vector<double>> element_strain, element_volume;  // [thread][element]
-  std::vector<double> strain, volume;                               // [element]: strain is the cell average
-  std::vector<double> node_strain, node_area;                       // [node]
-  std::vector<double> node_mean;                                    // [node]: node_strain / node_area
-  // The elements around each node, in ascending order: those of node i are
-  // node_elements[node_first[i] .. node_first[i + 1]) (built with the mesh, evs_adjacency).
-  std::vector<int32_t> node_first, node_elements;
-};
-
 // Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by
 // the throughput benchmark); when it is null step() reads no clock.
 struct PhaseTimes {
@@ -90,7 +78,7 @@ struct Scratch {
   // the factor on its particles' V sigma in (A.8) (full_cell_scales).
   std::vector<std::vector<double>> cell_volume;
   std::vector<double> cell_scale;
-  std::vector<int32_t> contact_nodes;  // this step's nodes where 2+ bodies have mass
+  ContactScratch contact;             // contact only: this step's contact nodes (contact.hpp)
   std::vector<double> load_factor;     // this step's ramp factor per surface load
   PhaseTimes* phase_times = nullptr;   // not owned; null: no timing
   // Problems found inside parallel loops, reported after them (-1: none).
@@ -127,12 +115,11 @@ void set_threads(Simulation& sim, int threads);
 // stencil rows in the new order.
 void sort_particles(Simulation& sim);
 
-// The smooth ramp (1 - cos(pi t / T)) / 2 up to T, then 1 (T = 0: 1 from t = 0).
-double ramp_factor(double t, double T);
 // Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp.
-Vec2 gravity_at(const Config& config, double t);
-// Each surface load's ramp factor at time t, into `factors` (one per load).
-void load_factors(const Config& config, double t, std::vector<double>& factors);
+inline Vec2 gravity_at(const Config& config, double t) {
+  if (t >= config.gravity_ramp) return config.gravity;
+  return ramp_factor(t, config.gravity_ramp) * config.gravity;
+}
 
 // The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
 double stable_time_step(const Simulation& sim, double cfl);

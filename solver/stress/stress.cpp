@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "solver/parallel/threads.hpp"
-#include "solver/step/step.hpp"
 #include "solver/stress/water.hpp"
 
 namespace talus::solver {

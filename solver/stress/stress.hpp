@@ -1,15 +1,113 @@
-// The stress update of every particle, one loop with or without water (docs/water.md): the
-// material's update on the effective stress, the pore pressure, the volume (step.hpp's phase
-// list: update_stresses).
+// The stress update (seed, section 4; A.13's constitutive step): each moving particle's material
+// (solver/stress/material_state.hpp) applied to its strain increment, with EVS's volumetric
+// part, the effective stress under water (water.hpp), the isolated-particle rule and the
+// volume update: one loop with or without water.
 #pragma once
+#include <algorithm>
 #include <vector>
 
+#include "solver/interpolation/interpolation.hpp"
 #include "solver/step/simulation.hpp"
 #include "solver/stress/material_state.hpp"
 
 namespace talus::solver {
 
-struct CellSums;  // step.hpp
+// Isolated particles (docs/transfer.md, "Isolated particles"). A particle alone in its element
+// is a grain in free flight, not a piece of a continuum: the nodes it shares with a wall or with
+// the body it left give it strain increments that no neighbour balances, and with a frictional
+// material (tension cut off at the apex, compression kept) those increments ratchet up a
+// compressive stress many times the overburden that the grain later releases in one step
+// (measured on the column collapse: -20 kPa in a grain that left a 0.1 m column, whose weight
+// gives at most 1.5 kPa). So an isolated particle carries no stress and keeps its volume.
+// "Alone" needs particles smaller than their element: with one particle per cell every particle
+// is alone, so a particle is isolated only when it also fills less than half of its element.
+inline bool is_isolated(int32_t particles_in_element, double volume, double element_area) {
+  return particles_in_element == 1 && 2 * volume < element_area;
+}
+
+// What the stress update takes from the cell pass, and per thread the particle's strain
+// increment with EVS applied (the smoothed value is computed once per run of particles that
+// share a stencil row).
+struct CellSums {
+  const Mesh& mesh;
+  const Stencil& stencil;
+  const std::vector<int32_t>& element_count;
+  const double* node_mean;  // EVS's evs.node_mean; null: EVS off
+};
+class StrainIncrement {
+ public:
+  // The arrays' data pointers are taken once: read through the containers, the compiler would
+  // reload them after every store the stress update makes.
+  StrainIncrement(const CellSums& sums, const Particles& P)
+      : row_(sums.stencil.row.data()), row_node_(sums.stencil.row_node.data()), width_(sums.stencil.width),
+        node_mean_(sums.node_mean), count_(sums.element_count.data()), area_(sums.mesh.area.data()),
+        element_(P.element.data()), volume_(P.volume.data()) {}
+  Vec4 operator()(long p, const Vec4& d) {
+    if (!node_mean_) return d;
+    const int32_t row = row_[p];
+    if (row != run_row_) {
+      run_row_ = row;
+      const int32_t* nodes = row_node_ + static_cast<std::size_t>(row) * width_;
+      smoothed_ = 0;
+      for (int k = 0; k < width_; ++k) smoothed_ += node_mean_[nodes[k]];
+      smoothed_ /= width_;
+    }
+    const double correction = 0.5 * (smoothed_ - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
+    return Vec4(d[0] + correction, d[1] + correction, d[2], d[3]);
+  }
+  bool isolated(long p) const {
+    const int32_t e = element_[p];
+    return is_isolated(count_[e], volume_[p], area_[e]);
+  }
+
+ private:
+  const int32_t* row_;
+  const int32_t* row_node_;
+  int width_;
+  const double* node_mean_;
+  const int32_t* count_;
+  const double* area_;
+  const int32_t* element_;
+  const double* volume_;
+  int32_t run_row_ = -1;
+  double smoothed_ = 0;
+};
+
+// The particle arrays a stress update reads and writes, their data pointers taken once, per
+// thread: read through the containers, the compiler reloads them after every store to a
+// particle (14 of 152 instructions a particle, counted with cachegrind; docs/water.md, "Cost").
+struct StressArrays {
+  explicit StressArrays(Particles& P)
+      : x(P.x.data()), v(P.v.data()), body(P.body.data()), id(P.id.data()), sigma(P.sigma.data()),
+        eps_p(P.eps_p.data()), volume(P.volume.data()),
+        history(P.history_width > 0 ? P.history.data() : nullptr),
+        history_width(static_cast<std::size_t>(P.history_width)) {}
+  // Particle p's history_width state variables (none: null).
+  double* history_of(long p) const { return history ? history + static_cast<std::size_t>(p) * history_width : nullptr; }
+
+  const Vec2* x;
+  const Vec2* v;
+  const int32_t* body;
+  const int32_t* id;
+  Vec4* sigma;
+  double* eps_p;
+  double* volume;
+  double* history;
+  std::size_t history_width;
+};
+
+// A particle's volume grows to at most this many times its initial volume. Elastic strains and
+// a sand's dilation stay well below; beyond it a material pulled apart (a frictional one at the
+// apex of its cone, without stress) opens gaps between its particles instead of inflating them.
+// Uncapped, a grain that left the column collapse grew to 10-100 times its volume, and the next
+// compression, acting through V_p sigma_p, threw it out of the mesh (docs/transfer.md).
+inline constexpr double kMaxVolumeGrowth = 1.2;
+
+// V_p (1 + trace), capped at kMaxVolumeGrowth V_p(0). The cap (a gather by the particle's id) is
+// read only when the volume grows: it was under it before.
+inline double grown_volume(double volume, double trace, const double* initial_volume, int32_t id) {
+  return trace > 0 ? std::min(volume * (1 + trace), kMaxVolumeGrowth * initial_volume[id]) : volume * (1 + trace);
+}
 
 // For every moving particle that is not isolated: the strain increment d_eps as EVS leaves it
 // (StrainIncrement, step.hpp), the material's update over the step dt (with a water table on the
