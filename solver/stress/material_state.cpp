@@ -17,6 +17,24 @@ double wave_speed(double shear_modulus, double bulk_modulus, double pore_stiffne
   return std::sqrt((bulk_modulus + 4 * shear_modulus / 3) / density);
 }
 
+// Calls f(Model{}, shared, own) with the material's parameters, a particle's `values` in them
+// and its strength reduced like the material's.
+template <class F>
+void with_particle_parameters(const MaterialState& s, const double* values, F&& f) {
+  with_model(s.material.model, [&](auto model, const auto& base) {
+    using Model = decltype(model);
+    SharedParameters shared = s.material;
+    auto own = base;
+    for (std::size_t k = 0; k < s.property_slots.size(); ++k) set_parameter(shared, own, s.property_slots[k], values[k]);
+    if (s.reduction) own = Model::reduced(own, *s.reduction);
+    f(model, shared, own);
+  });
+}
+
+double pore_stiffness(const MaterialState& s, const SharedParameters& shared) {
+  return s.water_bulk_modulus > 0 && shared.porosity > 0 ? s.water_bulk_modulus / shared.porosity : 0.0;
+}
+
 MaterialState make_state(const Material& m, const PrepareContext& context, double water_bulk_modulus) {
   MaterialState s;
   s.material = m;
@@ -25,35 +43,11 @@ MaterialState make_state(const Material& m, const PrepareContext& context, doubl
   s.density = m.density;
   s.shear_modulus = m.shear_modulus();
   s.bulk_modulus = m.bulk_modulus();
-  if (water_bulk_modulus > 0 && m.porosity > 0) s.pore_stiffness = water_bulk_modulus / m.porosity;
+  s.pore_stiffness = pore_stiffness(s, m);
   s.wave_speed = wave_speed(s.shear_modulus, s.bulk_modulus, s.pore_stiffness, s.density);
   s.history_width = history_width(m);
   s.prepared = prepare(m, context);
   return s;
-}
-
-// A particle's own state: the material's parameters with its `values` in them, its strength
-// reduced like the material's. (With the density and the history width, for the set-up.)
-struct OwnState : ParticleMaterial {
-  double density = 0;
-  int history_width = 0;
-};
-OwnState particle_material(const MaterialState& s, const double* values) {
-  OwnState out;
-  with_model(s.material.model, [&](auto model, const auto& base) {
-    using Model = decltype(model);
-    SharedParameters shared = s.material;
-    auto own = base;
-    for (std::size_t k = 0; k < s.property_slots.size(); ++k) set_parameter(shared, own, s.property_slots[k], values[k]);
-    if (s.reduction) own = Model::reduced(own, *s.reduction);
-    out.prepared = PreparedMaterial(std::in_place_type<typename Model::Prepared>, Model::prepare(shared, own, s.context));
-    out.shear_modulus = shared.shear_modulus();
-    out.bulk_modulus = shared.bulk_modulus();
-    if (s.water_bulk_modulus > 0 && shared.porosity > 0) out.pore_stiffness = s.water_bulk_modulus / shared.porosity;
-    out.density = shared.density;
-    out.history_width = Model::history_width(own);
-  });
-  return out;
 }
 
 // For each material, the indices into model.properties of its properties, in model order.
@@ -100,10 +94,12 @@ void prepare_materials(Config& config, const Model& model) {
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
     MaterialState& state = config.materials[model.bodies[model.body[p]].material];
     if (state.property_slots.empty()) continue;
-    const OwnState own = particle_material(state, rows.data() + p * width);
-    state.wave_speed = std::max(state.wave_speed, wave_speed(own.shear_modulus, own.bulk_modulus, own.pore_stiffness,
-                                                             own.density));
-    state.history_width = std::max(state.history_width, own.history_width);
+    with_particle_parameters(state, rows.data() + p * width, [&](auto model, const SharedParameters& shared,
+                                                                 const auto& own) {
+      state.wave_speed = std::max(state.wave_speed, wave_speed(shared.shear_modulus(), shared.bulk_modulus(),
+                                                               pore_stiffness(state, shared), shared.density));
+      state.history_width = std::max(state.history_width, decltype(model)::history_width(own));
+    });
   }
 }
 
@@ -138,7 +134,13 @@ void prepare_particle_materials(std::vector<MaterialState>& materials, const std
     MaterialState& state = materials[material_of_body[P.body[p]]];
     if (state.property_slots.empty()) continue;
     state.row_of_id[P.id[p]] = static_cast<int32_t>(state.particle_materials.size());
-    state.particle_materials.push_back(particle_material(state, P.properties.data() + p * width));
+    with_particle_parameters(state, P.properties.data() + p * width, [&](auto model, const SharedParameters& shared,
+                                                                         const auto& own) {
+      using Model = decltype(model);
+      state.particle_materials.push_back(
+          {PreparedMaterial(std::in_place_type<typename Model::Prepared>, Model::prepare(shared, own, state.context)),
+           shared.shear_modulus(), shared.bulk_modulus(), pore_stiffness(state, shared)});
+    });
   }
 }
 
