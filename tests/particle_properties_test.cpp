@@ -39,14 +39,18 @@ Model two_materials() {
   return model;
 }
 
-// The same column with one material, the weak one, and the right half's cohesion per particle.
+// The same column with one material, the weak one, and the right half's cohesion per particle;
+// also the friction angle per particle, the material's everywhere, so that each particle carries
+// two values (a field two wide through sorting, checkpoints and migration).
 Model one_material_with_properties() {
   Model model = two_materials();
   model.materials.pop_back();
   model.bodies[1].material = 0;
   ParticleProperty cohesion{model.materials[0].name, "cohesion", {}};
   for (int32_t body : model.body) cohesion.values.push_back(body == 1 ? kStrong : kWeak);
-  model.properties = {cohesion};
+  const ParticleProperty friction{model.materials[0].name, "friction_angle",
+                                  std::vector<double>(model.particle_count(), 30.0)};
+  model.properties = {cohesion, friction};
   return model;
 }
 
@@ -70,7 +74,7 @@ TEST(ParticleProperties, AnOverriddenCohesionActsAsASecondMaterialBitForBit) {
   for (int threads : {1, 2}) {
     solver::Simulation split = solver::make_simulation(two_materials(), threads);
     solver::Simulation with = solver::make_simulation(one_material_with_properties(), threads);
-    ASSERT_EQ(with.particles.properties.size(), with.particles.size());  // one value per particle
+    ASSERT_EQ(with.particles.properties.size(), 2 * with.particles.size());  // two values per particle
     ASSERT_TRUE(split.particles.properties.empty());
     advance(split, 150);
     advance(with, 150);
@@ -106,7 +110,7 @@ TEST(ParticleProperties, ValuesFollowTheParticlesThroughSortingAndACheckpoint) {
   advance(sim, 60);
   solver::sort_particles(sim);  // the particles have moved: a new order
   const solver::Particles& P = sim.particles;
-  for (std::size_t p = 0; p < P.size(); ++p) ASSERT_EQ(P.properties[p], model.properties[0].values[P.id[p]]);
+  for (std::size_t p = 0; p < P.size(); ++p) ASSERT_EQ(P.properties[2 * p], model.properties[0].values[P.id[p]]);
   solver::write_checkpoint(dir.path().string(), model, sim, solver::LoopState{0.5, 0.5}, solver::ResultsPosition{1, 0});
 
   solver::Simulation restarted = solver::make_simulation(model, 2);
@@ -135,10 +139,11 @@ TEST(ParticleProperties, ModelAndResultsFilesCarryThemAndOnlyThem) {
   Model model = one_material_with_properties();
   write_model(dir.file("with.h5"), model);
   const Model read = read_model(dir.file("with.h5"));
-  ASSERT_EQ(read.properties.size(), 1u);
+  ASSERT_EQ(read.properties.size(), 2u);
   EXPECT_EQ(read.properties[0].material, model.materials[0].name);
   EXPECT_EQ(read.properties[0].parameter, "cohesion");
   EXPECT_EQ(read.properties[0].values, model.properties[0].values);  // every particle is of that material
+  EXPECT_EQ(read.properties[1].parameter, "friction_angle");
 
   solver::SolveOptions options;
   options.out_dir = dir.path().string();
@@ -149,6 +154,7 @@ TEST(ParticleProperties, ModelAndResultsFilesCarryThemAndOnlyThem) {
   const h5::File results = h5::File::open_read(dir.file("results.h5"));
   EXPECT_EQ(h5::read_doubles(results, "particles/cohesion"), model.properties[0].values);
   EXPECT_EQ(h5::get_string(results, "particles/cohesion", "unit"), "Pa");
+  EXPECT_EQ(h5::get_string(results, "particles/friction_angle", "unit"), "deg");
 
   // Without properties: no group in model.h5, no dataset in results.h5.
   const Model plain = two_materials();
@@ -180,9 +186,7 @@ TEST(ParticleProperties, BadValuesAreRefusedNamingTheDatasetAndTheParticle) {
   // A per-particle friction angle bounds that particle's dilation angle.
   EXPECT_NE(problem_of([](Model& m) {
               parameters_of<MohrCoulomb>(m.materials[0]).dilation_angle = 20;
-              m.properties.push_back({m.materials[0].name, "friction_angle",
-                                      std::vector<double>(m.particle_count(), 30.0)});
-              m.properties.back().values[7] = 10;
+              m.properties[1].values[7] = 10;
             }).find("particle 7: dilation_angle: got 20, expected a finite number in [0, 10]"),
             std::string::npos);
   EXPECT_NE(problem_of([](Model& m) { m.properties[0].parameter = "density"; }).find("not a per-particle property"),
