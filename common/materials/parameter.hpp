@@ -40,7 +40,7 @@ struct Parameter {
   std::string problem(double value) const { return accepts(value) ? "" : range.problem(value); }
   // The problem of a value a scene gives, or "".
   std::string problem_given(double value) const {
-    if (off && value == *off) return off_message;
+    if (off && value == *off) return off_message ? off_message : range.problem(value);
     return given ? given->problem(value) : range.problem(value);
   }
 };

@@ -28,7 +28,7 @@ long stress_loop(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& c
   OwnerFirstChunks chunks(moving, threads);
 #pragma omp parallel num_threads(threads) reduction(max : bad)
   {
-    // The arrays, read once (StressArrays, step.hpp).
+    // The arrays, read once (StressArrays, stress.hpp).
     const StressArrays a(P);
     const Vec4* const d = d_eps.data();
     const MaterialState* const* const material_of_body = state_of_body.data();
@@ -43,7 +43,7 @@ long stress_loop(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& c
         Vec4& sigma = a.sigma[p];  // with water total, effective in between (in place: a copy measured slower)
         [[maybe_unused]] double u = 0;
         if (increment.isolated(p)) {
-          sigma.setZero();  // a grain in free flight (step.hpp, is_isolated)
+          sigma.setZero();  // a grain in free flight (stress.hpp, is_isolated)
           if constexpr (kWater) u = table.pore_pressure(a.x[p]);
         } else {
           const MaterialState& material = *material_of_body[a.body[p]];
