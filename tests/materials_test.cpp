@@ -105,7 +105,8 @@ TEST(Registry, StrengthIsReachedThroughTheUnit) {
   const Material sand = softening_sand(), rock = testing::elastic(2400, 3e10, 0.2);
   EXPECT_TRUE(has_strength(sand));
   EXPECT_FALSE(has_strength(rock));
-  const MohrCoulomb::Parameters& r = parameters_of<MohrCoulomb>(reduced(sand, 2));
+  const Material reduced_sand = reduced(sand, 2);
+  const MohrCoulomb::Parameters& r = parameters_of<MohrCoulomb>(reduced_sand);
   EXPECT_EQ(r.cohesion, 1e3);
   EXPECT_EQ(r.residual_cohesion, 50);
   EXPECT_EQ(r.tensile_strength, 250);
