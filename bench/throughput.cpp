@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "solver/parallel/threads.hpp"
-#include "solver/io/results.hpp"
+#include "solver/parallel/parallel.hpp"
+#include "solver/io/io.hpp"
 #include "solver/step/simulation.hpp"
 #include "solver/solver.hpp"
 #include "support/test_support.hpp"

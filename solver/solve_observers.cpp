@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "solver/parallel/domain.hpp"
+#include "solver/parallel/parallel.hpp"
 
 namespace talus::solver {
 

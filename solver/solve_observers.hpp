@@ -7,9 +7,7 @@
 #include <string>
 
 #include "common/model/model.hpp"
-#include "solver/io/checkpoint.hpp"
-#include "solver/io/results.hpp"
-#include "solver/io/results_parallel.hpp"
+#include "solver/io/io.hpp"
 #include "solver/step/time_loop.hpp"
 
 namespace talus::solver {

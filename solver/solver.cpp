@@ -14,10 +14,8 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "solver/io/checkpoint.hpp"
-#include "solver/parallel/domain.hpp"
-#include "solver/parallel/threads.hpp"
-#include "solver/io/results.hpp"
+#include "solver/io/io.hpp"
+#include "solver/parallel/parallel.hpp"
 #include "solver/solve_observers.hpp"
 #include "solver/step/step.hpp"
 

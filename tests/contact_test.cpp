@@ -12,7 +12,7 @@
 
 #include "common/h5.hpp"
 #include "common/model/model.hpp"
-#include "solver/io/checkpoint.hpp"
+#include "solver/io/io.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 
 #include "common/h5.hpp"
-#include "solver/io/checkpoint.hpp"
+#include "solver/io/io.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {

@@ -9,7 +9,7 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
-#include "solver/io/results.hpp"
+#include "solver/io/io.hpp"
 #include "solver/solver.hpp"
 #include "support/test_support.hpp"
 

@@ -14,7 +14,7 @@
 #include "common/h5.hpp"
 #include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/io/checkpoint.hpp"
+#include "solver/io/io.hpp"
 #include "solver/step/step.hpp"
 #include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"

@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "solver/parallel/threads.hpp"
+#include "solver/parallel/parallel.hpp"
 #include "solver/step/step.hpp"
 #include "solver/stress/stress.hpp"
 #include "support/test_support.hpp"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "solver/io/checkpoint.hpp"
+#include "solver/io/io.hpp"
 #include "solver/step/step.hpp"
 #include "solver/stress/stress.hpp"
 #include "support/test_support.hpp"

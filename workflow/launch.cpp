@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solver/parallel/mpi.hpp"
+#include "solver/parallel/parallel.hpp"
 
 namespace fs = std::filesystem;
 

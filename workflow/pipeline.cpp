@@ -14,7 +14,7 @@
 #include "postproc/postproc.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/solver.hpp"
-#include "solver/parallel/mpi.hpp"
+#include "solver/parallel/parallel.hpp"
 #include "workflow/folder_lock.hpp"
 #include "workflow/launch.hpp"
 #include "workflow/stamps.hpp"

@@ -49,6 +49,14 @@ std::optional<Parameter> find_parameter(const Material& m, std::string_view key)
   return found;
 }
 
+std::optional<double> parameter_value(const Material& m, std::string_view key) {
+  std::optional<double> found;
+  for_each_parameter(m, [&](const Parameter& parameter, double value) {
+    if (!found && key == parameter.name) found = value;
+  });
+  return found;
+}
+
 std::optional<ParameterSlot> parameter_slot(const Material& m, std::string_view key) {
   std::optional<ParameterSlot> slot;
   auto offset = [](const void* base, const double& value) {

@@ -99,8 +99,9 @@ void for_each_parameter(M& m, Visit&& visit) {
 }
 
 // The description of the parameter `key` of `m` (its range given m's other values), or none
-// when m's model has no such key.
+// when m's model has no such key; and its value.
 std::optional<Parameter> find_parameter(const Material& m, std::string_view key);
+std::optional<double> parameter_value(const Material& m, std::string_view key);
 
 // Where the parameter lives, resolved once so that a per-particle value is written into copies
 // of the parameter structs without looking its name up again: in the shared parameters or the

@@ -83,7 +83,7 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
 // Body and material names become HDF5 group names: plain words, at most 64, not "names".
 void check_name(const std::string& name, const std::string& item, const std::string& file);
 
-// One reader per top-level table, each given the reader of the file's root (common/scene_*.cpp).
+// One reader per top-level table, each given the reader of the file's root (common/scene/*.cpp).
 void read_scene_table(TableReader& top, Scene& scene);  // [scene]: name, geometry
 void read_mesh(TableReader& top, Scene& scene);         // [mesh]
 void read_run(TableReader& top, Scene& scene);          // [run]
@@ -94,5 +94,6 @@ void read_loads(TableReader& top, Scene& scene);       // [loads.NAME]
 void read_contact(TableReader& top, Scene& scene);      // [contact], [[contact.pairs]], after the bodies
 void read_post(TableReader& top, Scene& scene);         // [post], after the bodies
 void read_water(TableReader& top, Scene& scene);        // [water] (common/scene/water.cpp)
+void read_random(TableReader& top, Scene& scene);       // [random.NAME], after the materials (common/scene/random.cpp)
 
 }  // namespace talus::scene_reader

@@ -1,5 +1,5 @@
 // load_scene: parses the file, applies the --set overrides and reads the tables in the order of
-// the format (the readers are common/scene_*.cpp, their shared reader common/scene/reader.cpp).
+// the format (the readers are common/scene/*.cpp, their shared reader common/scene/reader.cpp).
 #include "common/scene/scene.hpp"
 
 #include <filesystem>
@@ -73,6 +73,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   read_contact(top, scene);
   read_post(top, scene);
   read_water(top, scene);
+  read_random(top, scene);
   top.finish();
 
   std::ostringstream canonical;

@@ -192,6 +192,27 @@ struct PostSettings {
   bool animate = true;                // talus post writes runout.mp4 and runout.gif
 };
 
+// [random.NAME] (docs/scenes.md): one material parameter as a spatially correlated random
+// field, drawn by preproc/random_field/random_field.hpp. Its underlying field is a standard Gaussian one,
+// mapped onto the distribution's marginal.
+enum class RandomDistribution { Lognormal, Normal, Uniform };
+enum class Correlation { Markov, Gaussian };  // the forms are stated in preproc/random_field/random_field.hpp
+
+struct RandomField {
+  std::string name;       // key of [random.NAME]
+  std::string material;   // a [materials] name
+  std::string parameter;  // a scalar parameter of that material, e.g. "cohesion"
+  RandomDistribution distribution = RandomDistribution::Lognormal;
+  double mean = 0;        // in the parameter's unit, > 0
+  double cov = 0;         // coefficient of variation (standard deviation / mean), > 0
+  Eigen::Vector2d correlation_length{0, 0};  // m, (horizontal, vertical), > 0; inf: fully correlated
+  Correlation correlation = Correlation::Markov;
+  // cross_correlation = { with, rho }: the underlying Gaussian field is rho times that of the
+  // field `with` plus sqrt(1 - rho^2) times its own (cross_with empty: independent).
+  std::string cross_with;
+  double cross_rho = 0;
+};
+
 struct Scene {
   std::string name;      // [scene] name, default: the TOML file's stem
   std::string path;      // the TOML file as given
@@ -205,6 +226,7 @@ struct Scene {
   std::vector<Boundary> boundaries;
   WaterSettings water;
   std::vector<SurfaceLoad> loads;
+  std::vector<RandomField> random;  // [random.NAME], in the order of their names
   std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
 
   int material_index(const std::string& name) const;  // -1 if absent

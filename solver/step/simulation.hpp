@@ -121,8 +121,6 @@ inline Vec2 gravity_at(const Config& config, double t) {
   return ramp_factor(t, config.gravity_ramp) * config.gravity;
 }
 
-// The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
-double stable_time_step(const Simulation& sim, double cfl);
 
 struct Energies {
   double kinetic = 0;       // of the particle (FLIP) velocities, J per m thickness

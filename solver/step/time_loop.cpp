@@ -1,14 +1,27 @@
 #include "solver/step/time_loop.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <Eigen/Geometry>
 #include <sstream>
 
 #include "solver/parallel/domain.hpp"
 #include "solver/step/step.hpp"
 
 namespace talus::solver {
+
+double stable_time_step(const Simulation& sim, double cfl) {
+  double wave_speed = 0;
+  for (const auto& material : sim.config.materials) wave_speed = std::max(wave_speed, material.wave_speed);
+  double max_speed_squared = 0;
+  const Particles& P = sim.particles;
+  const long n = static_cast<long>(P.moving_count);
+#pragma omp parallel for reduction(max : max_speed_squared) schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < n; ++p) max_speed_squared = std::max(max_speed_squared, P.v[p].squaredNorm());
+  double max_speed = std::sqrt(max_speed_squared);  // sqrt is monotone: the largest norm, exactly
+  if (sim.domain.distributed()) max_speed = mpi::max(max_speed);
+  return cfl * sim.config.mesh.h_min / (wave_speed + max_speed);  // (A.13)
+}
 
 LoopEnd run_time_loop(Simulation& sim, double cfl, double end_time, const std::vector<Observer*>& observers) {
   // Times within a billionth of the end time count as the end (a frame time summed from its

@@ -16,6 +16,9 @@ namespace talus::solver {
 
 inline constexpr double kNever = std::numeric_limits<double>::infinity();
 
+// The CFL step (A.13): dt = cfl h_min / (c_d + max |v_p|).
+double stable_time_step(const Simulation& sim, double cfl);
+
 // What the observers see of a step. The energies are computed at most once per step, on the
 // first call of energies(), so after any observer before it changed the particles' order.
 class StepEvent {
