@@ -30,7 +30,7 @@ struct MaterialState {
   double density = 0;
   double shear_modulus = 0, bulk_modulus = 0;  // G, K: plane strain uses the 3D moduli
   // c_d = sqrt((K + 4G/3) / rho), with the undrained pore stiffness; with per-particle
-  // properties, the fastest of its particles'.
+  // properties, the fastest of the material's and its particles' (the time step's bound).
   double wave_speed = 0;
   // Undrained water: the pore water's stiffness over the porosity, K_w / n (Pa); 0 otherwise.
   double pore_stiffness = 0;
