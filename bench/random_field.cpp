@@ -33,9 +33,8 @@ Scene two_fields() {
   Scene scene;
   Material sand;
   sand.name = "sand";
-  sand.model = MaterialModel::MohrCoulomb;
+  sand.model = MohrCoulomb::Parameters{.friction_angle = 30, .cohesion = 10e3};
   sand.density = 1800, sand.youngs_modulus = 1e7, sand.poisson_ratio = 0.3;
-  sand.friction_angle = 30, sand.cohesion = 10e3;
   scene.materials = {sand};
   RandomField cohesion;
   cohesion.name = "cohesion";

@@ -58,12 +58,13 @@ talus::Model tiny_model() {
   m.bodies = {body};
   talus::Material soil;
   soil.name = "soil";
-  soil.model = talus::MaterialModel::MohrCoulomb;
+  talus::MohrCoulomb::Parameters own;
+  own.friction_angle = 30;
+  own.cohesion = 1e3;
+  soil.model = own;
   soil.density = 2000;
   soil.youngs_modulus = 1e7;
   soil.poisson_ratio = 0.3;
-  soil.friction_angle = 30;
-  soil.cohesion = 1e3;
   m.materials = {soil};
   m.contact.pairs = {{"block", "block", 0.2}};
   m.post.metrics = {"runout"};
@@ -335,11 +336,14 @@ void check_invariants(const talus::Model& m) {
       for (const auto& x : loop)
         if (!finite(x)) violated("finite body loops");
   }
-  for (const auto& mat : m.materials)
-    if (!std::isfinite(mat.density) || !std::isfinite(mat.youngs_modulus) || !std::isfinite(mat.poisson_ratio) ||
-        !std::isfinite(mat.friction_angle) || !std::isfinite(mat.cohesion) || !std::isfinite(mat.dilation_angle) ||
-        !std::isfinite(mat.tensile_strength) || !(mat.density > 0) || !(mat.youngs_modulus > 0))
+  for (const auto& mat : m.materials) {
+    bool finite_parameters = true;
+    talus::for_each_parameter(mat, [&](const talus::Parameter&, double value) {
+      finite_parameters = finite_parameters && std::isfinite(value);
+    });
+    if (!finite_parameters || !(mat.density > 0) || !(mat.youngs_modulus > 0))
       violated("finite material parameters, positive density and stiffness");
+  }
   const auto& run = m.run;
   if (!std::isfinite(run.end_time) || !(run.end_time > 0) || !(run.cfl > 0 && run.cfl <= 1) ||
       !std::isfinite(run.output_interval) || !(run.output_interval > 0) || !finite(run.gravity) ||

@@ -101,6 +101,16 @@ std::vector<Eigen::Vector2d> canonical_positions(const std::vector<Eigen::Vector
   return out;
 }
 
+namespace {
+
+// c and phi of a material that has them (the callers check), with its unit weight.
+SoilStrength soil_strength(const Material& material, double gravity) {
+  const CohesionFriction strength = limit_equilibrium_strength(material).value();
+  return {strength.cohesion, strength.friction_angle, material.density * gravity};
+}
+
+}  // namespace
+
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const SoilStrength& soil) {
   if (has_vertical_face(slope.profile.surface)) return std::nullopt;
   std::optional<BishopResult> bishop = bishop_search(slope.profile, soil);
@@ -110,7 +120,7 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const So
 
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Material& material, double gravity,
                                             const WaterSettings& water) {
-  const SoilStrength soil{material.cohesion, material.friction_angle, material.density * gravity};
+  const SoilStrength soil = soil_strength(material, gravity);
   if (!water.enabled()) return critical_circle(slope, soil);
   if (has_vertical_face(slope.profile.surface)) return std::nullopt;
   const double saturated = (material.saturated_density > 0 ? material.saturated_density : material.density) * gravity;
@@ -150,7 +160,7 @@ LayeredGround layered_ground(const AnalysedSlope& slope, const Model& model, con
       for (const auto& p : loop) canonical.push_back(slope.mirror.point(p));
       layer.loops.push_back(std::move(canonical));
     }
-    layer.soil = {material.cohesion, material.friction_angle, material.density * gravity};
+    layer.soil = soil_strength(material, gravity);
     layer.saturated_unit_weight = (material.saturated_density > 0 ? material.saturated_density : material.density) * gravity;
     layers.push_back(std::move(layer));
   }
@@ -169,7 +179,7 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Mo
                                             const Source& source) {
   for (int index : bodies.indices) {
     const Material& material = model.materials[model.bodies[index].material];
-    if (material.model != MaterialModel::MohrCoulomb)
+    if (!limit_equilibrium_strength(material))
       throw Error(located(source.file, (source.scene ? "materials." : "materials/") + material.name,
                           "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle); body '" +
                               model.bodies[index].name + "' is not"));

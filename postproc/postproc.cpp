@@ -131,7 +131,8 @@ void slope_metrics(const Results& results, const AnalysedBodies& ground, const s
     for (int index : ground.indices) {
       const BodyInfo& info = results.metadata.bodies[index];
       const Material& material = results.metadata.materials[info.material];
-      m.layers.push_back({info.name, {material.cohesion, material.friction_angle, material.density * gravity}});
+      const CohesionFriction strength = *limit_equilibrium_strength(material);  // critical_circle checked it
+      m.layers.push_back({info.name, {strength.cohesion, strength.friction_angle, material.density * gravity}});
     }
     for (const auto& f : loads.force) m.surcharge -= f.y();
   }

@@ -204,16 +204,30 @@ std::string number(double x, int digits) {
 
 // The explicit solver's time step is about cfl x (an element's height) / (the P-wave speed of
 // the stiffest material): a run of more than kMaxSteps steps would not finish. run.max_steps
-// bounds the run, so a scene that sets it is not refused.
+// bounds the run, so a scene that sets it is not refused; a wave speed that is not finite is,
+// at the parameter that makes it so.
 void check_steps(const Scene& scene, double h) {
   constexpr double kMaxSteps = 1e8;
-  if (scene.run.max_steps > 0) return;
   for (const auto& body : scene.bodies) {
     const int index = scene.material_index(body.material);
     if (index < 0) continue;  // the meshing names it
     const Material& m = scene.materials[index];
     const double nu = m.poisson_ratio;
-    const double wave_speed = std::sqrt(m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / m.density);
+    const double modulus = m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu));  // P-wave modulus M
+    const double wave_speed = std::sqrt(modulus / m.density);
+    if (!std::isfinite(wave_speed)) {
+      // Each value is in its range, yet their combination overflows: name the one that does.
+      const bool stiff = !std::isfinite(m.youngs_modulus * (1 - nu) / (1 + nu));
+      const std::string key = std::isfinite(modulus) ? "density" : stiff ? "youngs_modulus" : "poisson_ratio";
+      const double got = key == "density" ? m.density : stiff ? m.youngs_modulus : nu;
+      throw Error(located(scene.path, "materials." + m.name + "." + key,
+                          "got " + number(got, 6) + ": the P-wave speed sqrt(M / density), M = E (1 - nu) / ((1 + nu) "
+                          "(1 - 2 nu)), is not a finite number (" +
+                              (key == "density" ? "M = " + number(modulus) + " Pa over a density this small"
+                                                : std::string("M overflows")) +
+                              ")"));
+    }
+    if (scene.run.max_steps > 0) continue;
     // A body thrown faster than its material's waves travel sets the step by its speed.
     const double speed = body.fixed ? 0 : std::hypot(body.initial_velocity.x(), body.initial_velocity.y());
     const double step = scene.run.cfl * 0.5 * h / (wave_speed + speed);

@@ -182,7 +182,7 @@ Model build_model(const Scene& scene, MeshReport* report) {
     if (scene.mesh.pattern == MeshPattern::Delaunay && !scene.run.evs)
       for (const Body& body : scene.bodies) {
         const int m = scene.material_index(body.material);
-        if (!body.fixed && m >= 0 && scene.materials[m].model == MaterialModel::MohrCoulomb) {
+        if (!body.fixed && m >= 0 && has_strength(scene.materials[m])) {
           report->locking_material = body.material;
           break;
         }

@@ -177,10 +177,9 @@ double elastic_period(const ReductionProblem& problem) {
 }
 
 void reduce_strength(Simulation& sim, const Model& model, double factor) {
-  for (std::size_t i = 0; i < model.materials.size(); ++i) {
-    const Material& m = model.materials[i];
-    if (m.model == MaterialModel::MohrCoulomb) set_strength(sim.config.materials[i], m, factor);
-  }
+  for (std::size_t i = 0; i < model.materials.size(); ++i)
+    if (has_strength(model.materials[i])) solver::reduce_strength(sim.config.materials[i], factor);
+  prepare_particle_materials(sim.config.materials, sim.config.material_of_body, sim.particles);
 }
 
 EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threads, std::ostream* log) {

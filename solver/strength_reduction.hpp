@@ -93,7 +93,8 @@ struct ReductionProblem {
 // Elastic period T0 = 4 H / c_s of the problem (s).
 double elastic_period(const ReductionProblem& problem);
 
-// Sets the strength of every Mohr-Coulomb material of sim to the scene's reduced by F.
+// Sets the strength of every material of sim that has one (has_strength) to the scene's reduced
+// by F, its particles' own values alike.
 void reduce_strength(Simulation& sim, const Model& model, double factor);
 
 struct EquilibriumAttempt {

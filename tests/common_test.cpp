@@ -15,7 +15,7 @@
 #include "common/fingerprint.hpp"
 #include "common/geometry.hpp"
 #include "common/h5.hpp"
-#include "common/materials/material.hpp"
+#include "common/materials/materials.hpp"
 #include "support/test_support.hpp"
 
 namespace talus {
@@ -148,21 +148,21 @@ TEST(Material, ValidMaterialsHaveNoProblem) {
   Material elastic = testing::elastic(2000, 1e7, 0.25);
   EXPECT_FALSE(material_problem(elastic));
   Material tresca = sand();
-  tresca.friction_angle = 0;
+  parameters_of<MohrCoulomb>(tresca).friction_angle = 0;
   EXPECT_FALSE(material_problem(tresca));
 }
 
 TEST(Material, TheFirstProblemIsNamedWithItsRange) {
   Material m = sand();
   m.poisson_ratio = 0.5;
-  m.dilation_angle = 40;
+  parameters_of<MohrCoulomb>(m).dilation_angle = 40;
   auto problem = material_problem(m);
   ASSERT_TRUE(problem);
   EXPECT_EQ(problem->key, "poisson_ratio");
   EXPECT_EQ(problem->message, "got 0.5, expected a finite number in [0, 0.5)");
 
   m = sand();
-  m.dilation_angle = 40;
+  parameters_of<MohrCoulomb>(m).dilation_angle = 40;
   problem = material_problem(m);
   ASSERT_TRUE(problem);
   EXPECT_EQ(problem->key, "dilation_angle");
@@ -173,8 +173,8 @@ TEST(Material, TheFirstProblemIsNamedWithItsRange) {
   EXPECT_EQ(material_problem(m)->message, "got inf, expected a finite number in (0, inf]");
 
   m = sand();
-  m.friction_angle = 0;
-  m.cohesion = 0;
+  parameters_of<MohrCoulomb>(m).friction_angle = 0;
+  parameters_of<MohrCoulomb>(m).cohesion = 0;
   problem = material_problem(m);
   ASSERT_TRUE(problem);
   EXPECT_EQ(problem->key, "cohesion");
@@ -183,7 +183,7 @@ TEST(Material, TheFirstProblemIsNamedWithItsRange) {
 
 TEST(Material, CheckMaterialLocatesTheProblem) {
   Material m = sand();
-  m.tensile_strength = std::numeric_limits<double>::quiet_NaN();
+  parameters_of<MohrCoulomb>(m).tensile_strength = std::numeric_limits<double>::quiet_NaN();
   const std::string message = message_of([&] { check_material(m, "model.h5", "materials/sand@"); });
   EXPECT_EQ(message.rfind("model.h5: materials/sand@tensile_strength: got ", 0), 0u) << message;
 }

@@ -189,11 +189,12 @@ TEST(CrossedMesh, WithoutMeshSizeTheGeosSizeIsTheQuadrilaterals) {
 // material or a fixed body need no note.
 TEST(CrossedMesh, ReportNotesAPlasticBodyOnLockingDelaunayTriangles) {
   ScratchDir dir("crossed-locking-note");
-  auto note_for = [&](MeshPattern pattern, bool evs, MaterialModel model, bool fixed) {
+  auto note_for = [&](MeshPattern pattern, bool evs, bool elastic, bool fixed) {
     Scene scene = square_scene(dir, 0.25);
     scene.mesh.pattern = pattern;
     scene.run.evs = evs;
-    scene.materials[0].model = model;
+    scene.materials[0].model = elastic ? MaterialParameters(LinearElastic::Parameters{})
+                                       : MaterialParameters(MohrCoulomb::Parameters{.friction_angle = 30, .cohesion = 1e3});
     scene.bodies[0].fixed = fixed;
     preproc::MeshReport report;
     preproc::build_model(scene, &report);
@@ -202,11 +203,11 @@ TEST(CrossedMesh, ReportNotesAPlasticBodyOnLockingDelaunayTriangles) {
     EXPECT_EQ(report.locking_material.empty(), printed.str().find("note:") == std::string::npos) << printed.str();
     return report.locking_material;
   };
-  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::MohrCoulomb, false), "rock");
-  EXPECT_EQ(note_for(MeshPattern::Crossed, false, MaterialModel::MohrCoulomb, false), "");
-  EXPECT_EQ(note_for(MeshPattern::Delaunay, true, MaterialModel::MohrCoulomb, false), "");
-  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::LinearElastic, false), "");
-  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, MaterialModel::MohrCoulomb, true), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, false, false), "rock");
+  EXPECT_EQ(note_for(MeshPattern::Crossed, false, false, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, true, false, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, true, false), "");
+  EXPECT_EQ(note_for(MeshPattern::Delaunay, false, false, true), "");
 }
 
 }  // namespace

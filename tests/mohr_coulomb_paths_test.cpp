@@ -29,7 +29,7 @@ using testing::strain_increment;
 using testing::yield;
 
 TEST(MohrCoulomb, ElasticUpdateIsPlaneStrainHooke) {
-  const MohrCoulombParams p = MohrCoulombParams::from(20e6, 0.3, 30, 10e3, 0, -1);
+  const MohrCoulombConstants p = MohrCoulombConstants::from(20e6, 0.3, 30, 10e3, 0, -1);
   const Eigen::Vector4d sigma_old(-3e3, -5e3, -4e3, 1e3);
   const Eigen::Vector4d d_eps(1e-4, -2e-4, 0.0, 3e-5);
   Eigen::Vector4d sigma = sigma_old;
@@ -48,7 +48,7 @@ TEST(MohrCoulomb, UniaxialCompressionYieldsAtTheTextbookStrength) {
     for (const double psi : {0.0, phi}) {
       SCOPED_TRACE("phi " + std::to_string(phi) + " psi " + std::to_string(psi));
       const double c = 10e3, e = 20e6;
-      const MohrCoulombParams p = MohrCoulombParams::from(e, 0.3, phi, c, psi, -1);
+      const MohrCoulombConstants p = MohrCoulombConstants::from(e, 0.3, phi, c, psi, -1);
       const double q_y = 2 * c * std::cos(phi * pi / 180) / (1 - std::sin(phi * pi / 180));
       const auto uniaxial = [](double q) { return Eigen::Vector4d(0, -q, 0, 0); };
       EXPECT_LT(mohr_coulomb_yield(p, uniaxial(q_y * (1 - 1e-9))), 0.0);
@@ -95,7 +95,7 @@ TEST(MohrCoulomb, UniaxialCompressionYieldsAtTheTextbookStrength) {
 TEST(MohrCoulomb, IsotropicTensionReturnsToTheApex) {
   const double c = 10e3;
   for (const double psi : {0.0, 30.0}) {
-    const MohrCoulombParams p = MohrCoulombParams::from(20e6, 0.3, 30, c, psi, -1);
+    const MohrCoulombConstants p = MohrCoulombConstants::from(20e6, 0.3, 30, c, psi, -1);
     const double apex = c / std::tan(30 * pi / 180);
     const double e_iso = 2 * apex / (3 * p.bulk_modulus);
     for (const Eigen::Vector4d& start :
@@ -118,15 +118,15 @@ TEST(MohrCoulomb, IsotropicTensionReturnsToTheApex) {
     for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(sigma[i], apex);
   }
 
-  const MohrCoulombParams cut = MohrCoulombParams::from(20e6, 0.3, 30, c, 30, 2e3);
+  const MohrCoulombConstants cut = MohrCoulombConstants::from(20e6, 0.3, 30, c, 30, 2e3);
   Eigen::Vector4d sigma(-2 * c, -4 * c, -3 * c, 0.5 * c);
   EXPECT_GT(mohr_coulomb_update(cut, sigma, Eigen::Vector4d(1e-2, 1e-2, 1e-2, 0)), 0.0);
   for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(sigma[i], 2e3);
   // A cut-off above the apex is capped to it.
-  EXPECT_DOUBLE_EQ(MohrCoulombParams::from(20e6, 0.3, 30, c, 30, 1e9).tensile_strength,
+  EXPECT_DOUBLE_EQ(MohrCoulombConstants::from(20e6, 0.3, 30, c, 30, 1e9).tensile_strength,
                    c / std::tan(30 * pi / 180));
 
-  const MohrCoulombParams tresca = MohrCoulombParams::from(20e6, 0.3, 0, c, 0, -1);
+  const MohrCoulombConstants tresca = MohrCoulombConstants::from(20e6, 0.3, 0, c, 0, -1);
   EXPECT_EQ(tresca.apex, std::numeric_limits<double>::infinity());
   sigma = Eigen::Vector4d(1e3, 2e3, 1.5e3, 0);
   const Eigen::Vector4d d_eps(1e-2, 1e-2, 1e-2, 0);
@@ -138,7 +138,7 @@ TEST(MohrCoulomb, IsotropicTensionReturnsToTheApex) {
 
 // Uniaxial tension with the cut-off: sigma1 ends at the tensile strength, the rest inside.
 TEST(MohrCoulomb, TensionCutOffCapsTheMajorStress) {
-  const MohrCoulombParams p = MohrCoulombParams::from(20e6, 0.3, 30, 10e3, 0, 3e3);
+  const MohrCoulombConstants p = MohrCoulombConstants::from(20e6, 0.3, 30, 10e3, 0, 3e3);
   Eigen::Vector4d sigma(0, -1e3, -1e3, 0);
   // Trial (5385, 1308, 1308) Pa: inside Mohr-Coulomb, past the cut-off in xx only.
   const double d_gamma = mohr_coulomb_update(p, sigma, Eigen::Vector4d(2e-4, 0, 0, 0));
@@ -156,7 +156,7 @@ TEST(MohrCoulomb, TensionCutOffCapsTheMajorStress) {
 TEST(MohrCoulomb, RigidRotationInvariance) {
   for (const Case& test_case : cases()) {
     SCOPED_TRACE(test_case.name);
-    const MohrCoulombParams& p = test_case.params;
+    const MohrCoulombConstants& p = test_case.params;
     std::mt19937 random(7);
     std::uniform_real_distribution<double> angle(-pi, pi);
     int plastic = 0;
@@ -178,13 +178,13 @@ TEST(MohrCoulomb, RigidRotationInvariance) {
 }
 
 TEST(MohrCoulomb, BadParametersAreRefused) {
-  EXPECT_THROW(MohrCoulombParams::from(0, 0.3, 30, 1e4, 0, -1), Error);
-  EXPECT_THROW(MohrCoulombParams::from(2e7, 0.5, 30, 1e4, 0, -1), Error);
-  EXPECT_THROW(MohrCoulombParams::from(2e7, -0.1, 30, 1e4, 0, -1), Error);
-  EXPECT_THROW(MohrCoulombParams::from(2e7, 0.3, 90, 1e4, 0, -1), Error);
-  EXPECT_THROW(MohrCoulombParams::from(2e7, 0.3, 30, 1e4, 35, -1), Error);
-  EXPECT_THROW(MohrCoulombParams::from(2e7, 0.3, 30, -1, 0, -1), Error);
-  EXPECT_NO_THROW(MohrCoulombParams::from(2e7, 0.3, 30, 0, 30, -1));
+  EXPECT_THROW(MohrCoulombConstants::from(0, 0.3, 30, 1e4, 0, -1), Error);
+  EXPECT_THROW(MohrCoulombConstants::from(2e7, 0.5, 30, 1e4, 0, -1), Error);
+  EXPECT_THROW(MohrCoulombConstants::from(2e7, -0.1, 30, 1e4, 0, -1), Error);
+  EXPECT_THROW(MohrCoulombConstants::from(2e7, 0.3, 90, 1e4, 0, -1), Error);
+  EXPECT_THROW(MohrCoulombConstants::from(2e7, 0.3, 30, 1e4, 35, -1), Error);
+  EXPECT_THROW(MohrCoulombConstants::from(2e7, 0.3, 30, -1, 0, -1), Error);
+  EXPECT_NO_THROW(MohrCoulombConstants::from(2e7, 0.3, 30, 0, 30, -1));
 }
 
 }  // namespace

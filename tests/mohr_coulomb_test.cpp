@@ -37,7 +37,7 @@ struct Coverage {
 };
 
 // Every check of one random step; see the test below for what is asserted.
-void check_step(const MohrCoulombParams& p, const Eigen::Vector4d& sigma_old,
+void check_step(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma_old,
                 const Eigen::Vector4d& d_eps, const Eigen::Vector4d& sigma, double d_gamma,
                 Coverage& coverage) {
   Eigen::Vector4d trial = sigma_old;
@@ -147,7 +147,7 @@ void check_step(const MohrCoulombParams& p, const Eigen::Vector4d& sigma_old,
 TEST(MohrCoulomb, RandomStepsStayAdmissibleAndFollowTheFlowRule) {
   for (const Case& test_case : cases()) {
     SCOPED_TRACE(test_case.name);
-    const MohrCoulombParams& p = test_case.params;
+    const MohrCoulombConstants& p = test_case.params;
     std::mt19937 random(20240611);
     std::uniform_real_distribution<double> unit(0, 1);
     Coverage coverage;

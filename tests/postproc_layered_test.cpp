@@ -103,11 +103,11 @@ Model two_layer_clay(double lambda) {
   Material clay, foundation;
   clay.name = "clay", foundation.name = "foundation";
   for (Material* m : {&clay, &foundation}) {
-    m->model = MaterialModel::MohrCoulomb, m->density = density;
+    m->model = MohrCoulomb::Parameters{}, m->density = density;
     m->youngs_modulus = 1e8, m->poisson_ratio = 0.3;
   }
-  clay.cohesion = 50e3;
-  foundation.cohesion = lambda * 50e3;
+  parameters_of<MohrCoulomb>(clay).cohesion = 50e3;
+  parameters_of<MohrCoulomb>(foundation).cohesion = lambda * 50e3;
   model.materials = {clay, foundation};
   model.bodies = {BodyInfo{"slope", 0, false, {kSlopeLayer}}, BodyInfo{"foundation", 1, false, {kFoundation}}};
   model.post.bodies = {"slope", "foundation"};
@@ -145,7 +145,7 @@ TEST(Layered, BishopOnTheTwoLayerClaySlopeWithinFivePercentOfGriffithsAndLane) {
 
 TEST(Layered, BishopRefusesABodyThatIsNotMohrCoulomb) {
   Model model = two_layer_clay(4);
-  model.materials[1].model = MaterialModel::LinearElastic;
+  model.materials[1].model = LinearElastic::Parameters{};
   const AnalysedBodies bodies{{0, 1}, {}};
   const Source source{"two_layer_clay.toml", true};
   const AnalysedSlope slope = analysed_slope(model, bodies, source);
@@ -181,23 +181,24 @@ TEST(Layered, AnalysedBodiesFollowPostBodiesAndRefuseUnknownNames) {
 // leaves a linear-elastic body's material alone.
 TEST(Layered, StrengthReductionDividesEveryMohrCoulombMaterial) {
   Model model = two_layer_clay(1.5);
-  model.materials[1].friction_angle = 30;
-  Material block;
+  parameters_of<MohrCoulomb>(model.materials[1]).friction_angle = 30;
+  Material block;  // linear elastic: no strength, left alone
   block.name = "block";
-  block.model = MaterialModel::LinearElastic;
   block.density = 2400, block.youngs_modulus = 3e10, block.poisson_ratio = 0.2;
-  block.cohesion = 1e6, block.friction_angle = 40;  // not used by an elastic material: must stay unreduced
   model.materials.push_back(block);
   solver::Simulation sim;
   for (const Material& m : model.materials) sim.config.materials.push_back(solver::make_material(m));
-  const auto untouched = sim.config.materials[2].peak;
+  const auto untouched = std::get<LinearElastic::Prepared>(sim.config.materials[2].prepared);
   solver::reduce_strength(sim, model, 2.0);
-  EXPECT_DOUBLE_EQ(sim.config.materials[0].peak.cohesion, 25e3);
-  EXPECT_DOUBLE_EQ(sim.config.materials[0].peak.friction_angle, 0);
-  EXPECT_DOUBLE_EQ(sim.config.materials[1].peak.cohesion, 37.5e3);
-  EXPECT_NEAR(std::tan(sim.config.materials[1].peak.friction_angle * M_PI / 180), std::tan(M_PI / 6) / 2, 1e-12);
-  EXPECT_EQ(sim.config.materials[2].peak.cohesion, untouched.cohesion);
-  EXPECT_EQ(sim.config.materials[2].peak.friction_angle, untouched.friction_angle);
+  auto peak = [&](int i) { return std::get<MohrCoulomb::Prepared>(sim.config.materials[i].prepared).peak_strength; };
+  EXPECT_DOUBLE_EQ(peak(0).cohesion, 25e3);
+  EXPECT_DOUBLE_EQ(peak(0).friction_angle, 0);
+  EXPECT_DOUBLE_EQ(peak(1).cohesion, 37.5e3);
+  EXPECT_NEAR(std::tan(peak(1).friction_angle * M_PI / 180), std::tan(M_PI / 6) / 2, 1e-12);
+  const auto& block_state = std::get<LinearElastic::Prepared>(sim.config.materials[2].prepared);
+  EXPECT_EQ(block_state.shear_modulus, untouched.shear_modulus);
+  EXPECT_FALSE(sim.config.materials[2].reduction);
+  EXPECT_EQ(sim.config.materials[1].reduction, 2.0);
 }
 
 }  // namespace

@@ -250,7 +250,7 @@ TEST(RunPost, SpringMassAgainstItsAnalyticalSolution) {
   Results r;
   r.metadata = slope_metadata({{0, 0}, {0.1, 0}, {0.1, 0.05}, {0, 0.05}});
   r.metadata.bodies[0].name = "mass";
-  r.metadata.materials[0].model = MaterialModel::LinearElastic;
+  r.metadata.materials[0].model = LinearElastic::Parameters{};
   r.metadata.post.metrics = {"spring_mass"};
   r.metadata.post.body = "mass";
   r.metadata.post.animate = false;

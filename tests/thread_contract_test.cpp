@@ -29,12 +29,8 @@ using talus::testing::set_run;
 namespace {
 
 Material sand() {
-  Material m = elastic(1800, 1e7, 0.3);
+  Material m = talus::testing::mohr_coulomb(1800, 1e7, 0.3, 30, 1e3);
   m.name = "sand";
-  m.model = MaterialModel::MohrCoulomb;
-  m.friction_angle = 30;
-  m.cohesion = 1e3;
-  m.dilation_angle = 0;
   return m;
 }
 

@@ -11,9 +11,9 @@
 
 #include "common/scene/scene.hpp"
 #include "preproc/preproc.hpp"
-#include "solver/stress/water.hpp"
 #include "solver/step/step.hpp"
 #include "solver/stress/stress.hpp"
+#include "solver/stress/water.hpp"
 #include "support/oedometer_column.hpp"
 #include "support/test_support.hpp"
 
@@ -114,7 +114,7 @@ namespace {
 struct OneParticle {
   Config config;
   Particles P;
-  // The cell pass's view for update_stresses_with_water: one element that the particle fills
+  // The cell pass's view for update_stresses: one element that the particle fills
   // (so it is not isolated), no EVS.
   Stencil stencil;
   std::vector<int32_t> element_count{1};
@@ -124,7 +124,6 @@ struct OneParticle {
 OneParticle one_particle(double porosity) {
   Material m;
   m.name = "soil";
-  m.model = MaterialModel::LinearElastic;
   m.density = 2000;
   m.youngs_modulus = 5e7;
   m.poisson_ratio = 0.3;
@@ -168,7 +167,7 @@ TEST(Undrained, IsotropicCompressionRaisesThePorePressureByKwOverNTimesTheStrain
   const std::vector<Vec4> expand = {-compress[0]};
   double worst = 0;
   for (int k = 1; k <= 200; ++k) {
-    ASSERT_EQ(update_stresses_with_water(P, k <= 100 ? compress : expand, o.cells(), o.config, 0, 1), -1);
+    ASSERT_EQ(update_stresses(P, k <= 100 ? compress : expand, o.cells(), o.config, 0, 1e-3, 1), -1);
     const double strain = 1e-5 * (k <= 100 ? k : 200 - k);  // accumulated compression
     worst = std::max(worst, std::abs(P.excess_pore_pressure[0] - Kw_n * strain) / (Kw_n * 1e-3));
     const Vec4 effective = effective_stress(P, 0);
@@ -184,7 +183,7 @@ TEST(Undrained, IsotropicCompressionRaisesThePorePressureByKwOverNTimesTheStrain
   EXPECT_NEAR(m.wave_speed, std::sqrt((K + Kw_n + 4 * m.shear_modulus / 3) / 2000), 1e-9 * m.wave_speed);
 
   OneParticle dry = one_particle(0);
-  ASSERT_EQ(update_stresses_with_water(dry.P, compress, dry.cells(), dry.config, 0, 1), -1);
+  ASSERT_EQ(update_stresses(dry.P, compress, dry.cells(), dry.config, 0, 1e-3, 1), -1);
   EXPECT_EQ(dry.P.excess_pore_pressure[0], 0.0);
   EXPECT_NEAR(dry.P.pore_pressure[0], 9810 * 5, 1e-9);
 }
@@ -196,7 +195,7 @@ TEST(Undrained, PureShearLeavesThePorePressure) {
   Particles& P = o.P;
   const double u0 = P.pore_pressure[0], G = o.config.materials[0].shear_modulus;
   const std::vector<Vec4> shear = {Vec4(1e-5, -1e-5, 0, 1e-5)};
-  for (int k = 0; k < 50; ++k) ASSERT_EQ(update_stresses_with_water(P, shear, o.cells(), o.config, 0, 1), -1);
+  for (int k = 0; k < 50; ++k) ASSERT_EQ(update_stresses(P, shear, o.cells(), o.config, 0, 1e-3, 1), -1);
   EXPECT_EQ(P.excess_pore_pressure[0], 0.0);
   EXPECT_EQ(P.pore_pressure[0], u0);
   const Vec4 effective = effective_stress(P, 0);

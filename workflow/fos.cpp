@@ -128,7 +128,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   const postproc::AnalysedSlope slope = postproc::analysed_slope(model, body, source);
   for (int index : body.indices) {
     const Material& material = model.materials[model.bodies[index].material];
-    if (material.model != MaterialModel::MohrCoulomb)
+    if (!has_strength(material))
       throw Error(located(scene.path, "materials." + material.name,
                           "fos needs a Mohr-Coulomb material (body '" + model.bodies[index].name + "')"));
   }

@@ -16,7 +16,6 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "common/materials/material.hpp"
 
 namespace talus {
 namespace {
@@ -32,13 +31,13 @@ struct InPlane {
 };
 
 // s -= D e for principal vectors.
-inline void subtract_elastic(const MohrCoulombParams& p, const double e[3], double s[3]) {
+inline void subtract_elastic(const MohrCoulombConstants& p, const double e[3], double s[3]) {
   const double lambda_trace = p.lame_lambda * (e[0] + e[1] + e[2]);
   for (int i = 0; i < 3; ++i) s[i] -= lambda_trace + 2.0 * p.shear_modulus * e[i];
 }
 
 // e += D^-1 x, with D^-1 = (I - lambda / (3K) 1 1^T) / (2G) (3 lambda + 2G = 3K).
-inline void add_compliance(const MohrCoulombParams& p, const double x[3], double e[3]) {
+inline void add_compliance(const MohrCoulombConstants& p, const double x[3], double e[3]) {
   const double volumetric = p.lame_lambda / (3.0 * p.bulk_modulus) * (x[0] + x[1] + x[2]);
   for (int i = 0; i < 3; ++i) e[i] += (x[i] - volumetric) / (2.0 * p.shear_modulus);
 }
@@ -64,7 +63,7 @@ inline void solve_edge(double m, double n, double f_1, double f_2, double& dl_1,
 // Mohr-Coulomb "right/left edge"). The edge
 // return is valid while it stays on the compression side of the apex (the order is kept, the
 // boundary t = 0 of Clausen et al.); beyond it the stress goes to the apex.
-void return_to_mohr_coulomb(const MohrCoulombParams& p, double s[3], double e_p[3]) {
+void return_to_mohr_coulomb(const MohrCoulombConstants& p, double s[3], double e_p[3]) {
   const double b1 = 1.0 + p.sin_psi, b3 = 1.0 - p.sin_psi;
   const double f_1 = yield_from_extremes(p, s[0], s[2]);
 
@@ -115,7 +114,7 @@ void return_to_mohr_coulomb(const MohrCoulombParams& p, double s[3], double e_p[
 
 // Associated Rankine return, sigma1 <= t, of the sorted s (s1 > t); adds to e_p. Same three
 // cases as above with a = b = unit vectors: plane s1 = t, edge s1 = s2 = t, corner.
-void return_to_tension_cutoff(const MohrCoulombParams& p, double s[3], double e_p[3]) {
+void return_to_tension_cutoff(const MohrCoulombConstants& p, double s[3], double e_p[3]) {
   const double t = p.tensile_strength;
   const double lambda = p.lame_lambda, g = p.shear_modulus;
   const double over_1 = s[0] - t, over_2 = s[1] - t;
@@ -149,27 +148,34 @@ void return_to_tension_cutoff(const MohrCoulombParams& p, double s[3], double e_
 
 }  // namespace
 
-MohrCoulombParams MohrCoulombParams::from(double youngs_modulus, double poisson_ratio,
-                                          double friction_angle_deg, double cohesion,
-                                          double dilation_angle_deg, double tensile_strength) {
-  // A guard by the ranges of the material check (common/materials/material.hpp). nu >= 0 keeps
-  // lambda >= 0, which the sequential tension cut-off relies on (header).
-  Material material;
-  material.youngs_modulus = youngs_modulus;
-  material.poisson_ratio = poisson_ratio;
-  material.friction_angle = friction_angle_deg;
-  material.cohesion = cohesion;
-  material.dilation_angle = dilation_angle_deg;
-  for (const char* key : {"youngs_modulus", "poisson_ratio", "friction_angle", "dilation_angle", "cohesion"})
-    if (const auto problem = parameter_problem(material, key))
-      throw Error("Mohr-Coulomb material: " + problem->key + ": " + problem->message);
+MohrCoulombConstants MohrCoulombConstants::from(double youngs_modulus, double poisson_ratio,
+                                                double friction_angle_deg, double cohesion,
+                                                double dilation_angle_deg, double tensile_strength) {
+  // A guard by the unit's ranges. nu >= 0 keeps lambda >= 0, which the sequential tension
+  // cut-off relies on (header).
+  SharedParameters shared;
+  shared.youngs_modulus = youngs_modulus;
+  shared.poisson_ratio = poisson_ratio;
+  MohrCoulomb::Parameters own;
+  own.friction_angle = friction_angle_deg;
+  own.cohesion = cohesion;
+  own.dilation_angle = dilation_angle_deg;
+  auto guard = [](const Parameter& parameter, double value) {
+    const std::string_view key = parameter.name;
+    if (key == "density" || key == "tensile_strength" || key.find("soften") != key.npos || key.find("residual") == 0)
+      return;  // not among the constants' arguments, or any value is valid
+    if (const std::string problem = parameter.problem(value); !problem.empty())
+      throw Error("Mohr-Coulomb material: " + std::string(key) + ": " + problem);
+  };
+  SharedParameters::visit_elastic(shared, guard);
+  MohrCoulomb::Parameters::visit(own, guard);
   return unchecked(youngs_modulus, poisson_ratio, friction_angle_deg, cohesion, dilation_angle_deg, tensile_strength);
 }
 
-MohrCoulombParams MohrCoulombParams::unchecked(double youngs_modulus, double poisson_ratio,
+MohrCoulombConstants MohrCoulombConstants::unchecked(double youngs_modulus, double poisson_ratio,
                                                double friction_angle_deg, double cohesion,
                                                double dilation_angle_deg, double tensile_strength) {
-  MohrCoulombParams p;
+  MohrCoulombConstants p;
   p.shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
   p.bulk_modulus = youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio));
   p.lame_lambda = p.bulk_modulus - 2.0 * p.shear_modulus / 3.0;
@@ -196,7 +202,7 @@ MohrCoulombParams MohrCoulombParams::unchecked(double youngs_modulus, double poi
   return p;
 }
 
-double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma) {
+double mohr_coulomb_return(const MohrCoulombConstants& p, Eigen::Vector4d& sigma) {
   const bool cut_off = p.tensile_strength >= 0.0;
 
   // zz is the third principal stress beside the in-plane pair.
@@ -237,10 +243,81 @@ double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma) {
   return std::max({e_p[0], e_p[1], e_p[2]}) - std::min({e_p[0], e_p[1], e_p[2]});
 }
 
-double mohr_coulomb_yield(const MohrCoulombParams& p, const Eigen::Vector4d& sigma) {
+double mohr_coulomb_yield(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma) {
   const InPlane circle(sigma);
   return yield_from_extremes(p, std::max(circle.centre + circle.radius, sigma[2]),
                              std::min(circle.centre - circle.radius, sigma[2]));
+}
+
+std::optional<MaterialProblem> MohrCoulomb::rules(const Parameters& p) {
+  if (p.friction_angle == 0 && p.cohesion == 0)
+    return MaterialProblem{"cohesion", "a Mohr-Coulomb material needs friction_angle > 0 or cohesion > 0"};
+  if (p.softening_end > 0 && p.residual_friction_angle == 0 && p.residual_cohesion == 0)
+    return MaterialProblem{"residual_cohesion",
+                           "a softening material needs residual_friction_angle > 0 or residual_cohesion > 0"};
+  return std::nullopt;
+}
+
+MohrCoulomb::Prepared MohrCoulomb::prepare(const SharedParameters& shared, const Parameters& p,
+                                           const PrepareContext& context) {
+  Prepared s;
+  s.youngs_modulus = shared.youngs_modulus;
+  s.poisson_ratio = shared.poisson_ratio;
+  s.tensile_strength = p.tensile_strength;
+  auto constants = [&](const Strength& strength) {
+    return MohrCoulombConstants::unchecked(s.youngs_modulus, s.poisson_ratio, strength.friction_angle,
+                                           strength.cohesion, strength.dilation_angle, s.tensile_strength);
+  };
+  s.peak_strength = {p.cohesion, p.friction_angle, std::min(p.dilation_angle, p.friction_angle)};
+  s.peak = constants(s.peak_strength);
+  if (p.softening_end > 0) {
+    s.softens = true;
+    s.softening_start = p.softening_start;
+    s.softening_end = p.softening_end;
+    // Regularisation: the strains scale with the reference size over the element size, so that
+    // the energy a shear band dissipates does not depend on the mesh.
+    if (p.softening_reference_size > 0 && context.element_size > 0) {
+      const double scale = p.softening_reference_size / context.element_size;
+      s.softening_start = p.softening_start * scale;
+      s.softening_end = p.softening_end * scale;
+    }
+    s.residual_strength = {p.residual_cohesion, p.residual_friction_angle,
+                           std::min(p.residual_dilation_angle, p.residual_friction_angle)};
+    s.residual = constants(s.residual_strength);
+  }
+  return s;
+}
+
+double MohrCoulomb::softening_update(const Prepared& s, Eigen::Vector4d& sigma, const Eigen::Vector4d& d_eps,
+                                     double gamma) {
+  if (gamma <= s.softening_start) return mohr_coulomb_update(s.peak, sigma, d_eps);
+  if (gamma >= s.softening_end) return mohr_coulomb_update(s.residual, sigma, d_eps);
+  const double t = (gamma - s.softening_start) / (s.softening_end - s.softening_start);
+  const Strength& a = s.peak_strength;
+  const Strength& b = s.residual_strength;
+  const Strength now{a.cohesion + t * (b.cohesion - a.cohesion),
+                     a.friction_angle + t * (b.friction_angle - a.friction_angle),
+                     a.dilation_angle + t * (b.dilation_angle - a.dilation_angle)};
+  const MohrCoulombConstants constants =
+      MohrCoulombConstants::unchecked(s.youngs_modulus, s.poisson_ratio, now.friction_angle, now.cohesion,
+                                      std::min(now.dilation_angle, now.friction_angle), s.tensile_strength);
+  return mohr_coulomb_update(constants, sigma, d_eps);
+}
+
+MohrCoulomb::Parameters MohrCoulomb::reduced(const Parameters& p, double factor) {
+  // degrees(atan(tan(radians(angle)) / F)), as strength reduction has always computed it.
+  auto angle = [factor](double degrees) { return std::atan(std::tan(degrees * M_PI / 180.0) / factor) * 180.0 / M_PI; };
+  Parameters r = p;
+  r.friction_angle = angle(p.friction_angle);
+  r.cohesion = p.cohesion / factor;
+  r.dilation_angle = std::min(angle(p.dilation_angle), r.friction_angle);
+  r.tensile_strength = p.tensile_strength < 0 ? p.tensile_strength : p.tensile_strength / factor;
+  if (p.softening_end > 0) {  // the residual strength acts only then
+    r.residual_friction_angle = angle(p.residual_friction_angle);
+    r.residual_cohesion = p.residual_cohesion / factor;
+    r.residual_dilation_angle = std::min(angle(p.residual_dilation_angle), r.residual_friction_angle);
+  }
+  return r;
 }
 
 }  // namespace talus

@@ -1,4 +1,6 @@
-// Elastic-perfectly plastic Mohr-Coulomb material, plane strain (design.md, "Mohr-Coulomb").
+// Elastic-perfectly plastic Mohr-Coulomb material with optional linear strain softening, plane
+// strain (design.md, "Mohr-Coulomb"): the unit `MohrCoulomb` at the end of this file, and the
+// return mapping it calls.
 //
 // Conventions
 // - Tension positive, for stress and strain alike.
@@ -37,10 +39,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string_view>
+
+#include "common/materials/linear_elastic.hpp"
+#include "common/materials/parameter.hpp"
 
 namespace talus {
 
-struct MohrCoulombParams {   // built once from the material by from(), never in the hot loop
+// The constants of one Mohr-Coulomb strength that the return mapping reads, computed once by
+// from() (never in the hot loop but for a softening particle between its peak and residual).
+struct MohrCoulombConstants {
   double shear_modulus = 0, bulk_modulus = 0;              // G, K (Pa)
   double sin_phi = 0, cos_phi = 1, sin_psi = 0, cohesion = 0;  // friction, dilation, c (Pa)
   double tensile_strength = -1;  // Pa; < 0: no tension cut-off. from() caps it at c cot(phi).
@@ -54,43 +63,29 @@ struct MohrCoulombParams {   // built once from the material by from(), never in
   double extension_coupling = 0;   // a_1^T D b_3 for the edge sigma2 = sigma3
 
   // Angles in degrees. Throws talus::Error naming the bad parameter unless E > 0,
-  // 0 <= nu < 0.5, 0 <= phi < 90, 0 <= psi <= phi, c >= 0.
-  static MohrCoulombParams from(double youngs_modulus, double poisson_ratio,
-                                double friction_angle_deg, double cohesion,
-                                double dilation_angle_deg, double tensile_strength);
-  // The same without the guard, for values already known to be in range (a softening
-  // material's strength between its checked peak and residual, solver/stress/material_state.cpp).
-  static MohrCoulombParams unchecked(double youngs_modulus, double poisson_ratio, double friction_angle_deg,
-                                     double cohesion, double dilation_angle_deg, double tensile_strength);
+  // 0 <= nu < 0.5, 0 <= phi < 90, 0 <= psi <= phi, c >= 0 (the ranges of the unit's visitor).
+  static MohrCoulombConstants from(double youngs_modulus, double poisson_ratio, double friction_angle_deg,
+                                   double cohesion, double dilation_angle_deg, double tensile_strength);
+  // The same without the guard, for values already checked (a material's, or a softening
+  // particle's strength between its checked peak and residual).
+  static MohrCoulombConstants unchecked(double youngs_modulus, double poisson_ratio, double friction_angle_deg,
+                                        double cohesion, double dilation_angle_deg, double tensile_strength);
 };
 
-// Linear elastic trial: sigma += D d_eps, plane strain isotropic, D = lambda 1 (x) 1 + 2G I
-// (tensor shear: sigma_xy += 2G d_eps_xy).
-inline void elastic_update(double shear_modulus, double bulk_modulus, Eigen::Vector4d& sigma,
-                           const Eigen::Vector4d& d_eps) {
-  const double two_g = 2.0 * shear_modulus;
-  const double lambda_trace =
-      (bulk_modulus - two_g / 3.0) * (d_eps[0] + d_eps[1] + d_eps[2]);
-  sigma[0] += lambda_trace + two_g * d_eps[0];
-  sigma[1] += lambda_trace + two_g * d_eps[1];
-  sigma[2] += lambda_trace + two_g * d_eps[2];
-  sigma[3] += two_g * d_eps[3];
-}
-
 // f from the largest and smallest principal stresses (the middle one does not enter).
-inline double yield_from_extremes(const MohrCoulombParams& p, double s_max, double s_min) {
+inline double yield_from_extremes(const MohrCoulombConstants& p, double s_max, double s_min) {
   return (1.0 + p.sin_phi) * s_max - (1.0 - p.sin_phi) * s_min - p.two_c_cos_phi;
 }
 
 // The return mapping of an elastic trial stress that may lie outside the surface (or past the
 // cut-off); d_gamma_p as defined above. mohr_coulomb_update's second half (mohr_coulomb.cpp).
-double mohr_coulomb_return(const MohrCoulombParams& p, Eigen::Vector4d& sigma);
+double mohr_coulomb_return(const MohrCoulombConstants& p, Eigen::Vector4d& sigma);
 
 // Elastic trial then return mapping onto the Mohr-Coulomb surface (and the tension cut-off).
 // Returns d_gamma_p as defined above (0 for an elastic step, and then sigma is exactly the
 // elastic trial). No heap, no virtual calls. Inline up to the test that settles most particles
 // (they stay well inside the surface), so that their stress stays in registers.
-inline double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& sigma,
+inline double mohr_coulomb_update(const MohrCoulombConstants& p, Eigen::Vector4d& sigma,
                                   const Eigen::Vector4d& d_eps) {
   elastic_update(p.shear_modulus, p.bulk_modulus, sigma, d_eps);
   // f grows with Mohr's radius R (the largest principal stress rises, the smallest falls), so f
@@ -106,6 +101,101 @@ inline double mohr_coulomb_update(const MohrCoulombParams& p, Eigen::Vector4d& s
 }
 
 // f of a stress (Pa; > 0 outside the surface), for diagnostics and tests.
-double mohr_coulomb_yield(const MohrCoulombParams& p, const Eigen::Vector4d& sigma);
+double mohr_coulomb_yield(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma);
+
+// The unit (docs/architecture.md, "Materials"). Strain softening (softening_end > 0): between
+// the plastic shear strains softening_start and softening_end c, phi and psi fall linearly from
+// their peak values to the residual ones (docs/water.md); that strain is the particle's one
+// history variable, advanced by each step's d_gamma_p.
+struct MohrCoulomb {
+  static constexpr std::string_view kName = "mohr_coulomb";
+
+  struct Parameters {
+    double friction_angle = 0;     // deg
+    double cohesion = 0;           // Pa
+    double dilation_angle = 0;     // deg
+    double tensile_strength = -1;  // Pa; < 0: no tension cut-off (the cone's own apex limits tension)
+    double softening_start = 0;    // -
+    double softening_end = 0;      // -; 0: no softening
+    double residual_cohesion = 0;        // Pa
+    double residual_friction_angle = 0;  // deg
+    double residual_dilation_angle = 0;  // deg
+    double softening_reference_size = 0; // m; > 0: both strains scaled by it over the mean element size
+
+    template <class Self, class Visit>
+    static void visit(Self& p, Visit&& visit) {
+      static constexpr const char* kEnd = "the plastic strain at which the strength is residual";
+      visit(Parameter{.name = "friction_angle", .unit = "deg", .range = {0, 90, true, false}}, p.friction_angle);
+      visit(Parameter{.name = "cohesion", .unit = "Pa", .range = {0, kUnbounded}}, p.cohesion);
+      visit(Parameter{.name = "dilation_angle", .unit = "deg", .range = {0, p.friction_angle}, .fallback = 0.0},
+            p.dilation_angle);
+      visit(Parameter{.name = "tensile_strength", .unit = "Pa", .range = {-kUnbounded, kUnbounded},
+                      .fallback = -1.0, .given = NumberRange{0, kUnbounded}},
+            p.tensile_strength);
+      visit(Parameter{.name = "softening_start", .unit = "-", .range = {0, kUnbounded}, .fallback = 0.0,
+                      .needs = "softening_end", .needs_why = kEnd, .optional_in_file = true},
+            p.softening_start);
+      visit(Parameter{.name = "softening_end", .unit = "-", .range = {p.softening_start, kUnbounded, false},
+                      .fallback = 0.0, .off = 0.0, .off_message = "got 0, expected a number > softening_start",
+                      .optional_in_file = true},
+            p.softening_end);
+      visit(Parameter{.name = "residual_cohesion", .unit = "Pa", .range = {0, kUnbounded}, .fallback = p.cohesion,
+                      .needs = "softening_end", .needs_why = kEnd, .optional_in_file = true},
+            p.residual_cohesion);
+      visit(Parameter{.name = "residual_friction_angle", .unit = "deg", .range = {0, 90, true, false},
+                      .fallback = p.friction_angle, .needs = "softening_end", .needs_why = kEnd,
+                      .optional_in_file = true},
+            p.residual_friction_angle);
+      visit(Parameter{.name = "residual_dilation_angle", .unit = "deg", .range = {0, p.residual_friction_angle},
+                      .fallback = std::min(p.dilation_angle, p.residual_friction_angle), .needs = "softening_end",
+                      .needs_why = kEnd, .optional_in_file = true},
+            p.residual_dilation_angle);
+      visit(Parameter{.name = "softening_reference_size", .unit = "m", .range = {0, kUnbounded}, .fallback = 0.0,
+                      .needs = "softening_end", .needs_why = kEnd, .optional_in_file = true},
+            p.softening_reference_size);
+    }
+  };
+  // friction_angle > 0 or cohesion > 0, and with softening the same of the residual values.
+  static std::optional<MaterialProblem> rules(const Parameters& p);
+
+  struct Strength {
+    double cohesion = 0, friction_angle = 0, dilation_angle = 0;  // Pa, deg, deg (psi capped at phi)
+  };
+  struct Prepared {
+    MohrCoulombConstants peak;  // the strength up to softening_start, and the only one without softening
+    bool softens = false;       // softening_end > 0 (a flag: the hot loop tests it with one instruction)
+    double softening_start = 0, softening_end = 0;  // regularised by the element size
+    MohrCoulombConstants residual;                  // from softening_end on
+    Strength peak_strength, residual_strength;      // interpolated in between
+    double youngs_modulus = 0, poisson_ratio = 0, tensile_strength = -1;
+  };
+  static Prepared prepare(const SharedParameters& shared, const Parameters& p, const PrepareContext& context);
+  static int history_width(const Parameters& p) { return p.softening_end > 0 ? 1 : 0; }
+
+  // The update of a softening particle, its strength taken at the plastic shear strain
+  // `gamma` before the step (explicit in the hardening variable). Returns d_gamma_p.
+  static double softening_update(const Prepared& s, Eigen::Vector4d& sigma, const Eigen::Vector4d& d_eps,
+                                 double gamma);
+  // Adds d_gamma_p to eps_p and, softening, to history[0] (the strain that drives it).
+  static void update(const Prepared& s, Eigen::Vector4d& sigma, const Eigen::Vector4d& d_eps, double /*dt*/,
+                     double& eps_p, double* history) {
+    if (s.softens) {
+      const double gamma = history[0];
+      const double d_gamma = softening_update(s, sigma, d_eps, gamma);
+      history[0] = gamma + d_gamma;
+      eps_p += d_gamma;
+      return;
+    }
+    eps_p += mohr_coulomb_update(s.peak, sigma, d_eps);
+  }
+
+  // Strength reduction by F (docs/fos.md): c / F, tan(phi) / F and tan(psi) / F (psi capped at
+  // phi), the tension cut-off / F; peak and residual alike.
+  static constexpr bool kHasStrength = true;
+  static Parameters reduced(const Parameters& p, double factor);
+  static std::optional<CohesionFriction> limit_equilibrium(const Parameters& p) {
+    return CohesionFriction{p.cohesion, p.friction_angle};
+  }
+};
 
 }  // namespace talus

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,18 @@ struct BodyInfo {
   // Boundary loops of the body in the initial configuration (outer loops and holes; a point
   // is inside when it is inside an odd number of loops). Closed: last vertex != first.
   std::vector<std::vector<Eigen::Vector2d>> loops;
+};
+
+// A material parameter given per particle, such as one realisation of a random field of
+// cohesion (docs/model-format.md, /particles/properties): the material, one of its parameter keys
+// (any of its model's or youngs_modulus, poisson_ratio, porosity; not density or
+// saturated_density, which act through each particle's mass and initial stress, fixed when
+// meshing), and one value per particle. Only the values of the material's particles are used;
+// the others are ignored (NaN when written).
+struct ParticleProperty {
+  std::string material;
+  std::string parameter;
+  std::vector<double> values;
 };
 
 struct Model {
@@ -64,6 +77,9 @@ struct Model {
   std::vector<double> load_length;
   std::vector<Eigen::Vector2d> load_normal;
 
+  // Per-particle material parameters (empty: every particle has its material's).
+  std::vector<ParticleProperty> properties;
+
   std::vector<BodyInfo> bodies;
   std::vector<Material> materials;
   std::vector<SurfaceLoad> loads;
@@ -79,6 +95,12 @@ struct Model {
 // normal (-pressure x load_normal) or traction x load_length; zero for a particle without a
 // load. Empty when the model has no loads.
 std::vector<Eigen::Vector2d> particle_load_forces(const Model& model);
+
+// The first problem of the per-particle properties, at the item "particles/properties/M.P" of
+// model.h5: an unknown material or key, a key given twice or not allowed per particle, a column
+// of another length, or a particle whose values leave its material invalid (each value against
+// its range given the particle's other values, then the model's rules). None when sound.
+std::optional<MaterialProblem> properties_problem(const Model& model);
 
 // Writes to PATH.tmp and renames when complete, so no half-written model is ever left.
 void write_model(const std::string& path, const Model& model);

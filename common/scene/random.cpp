@@ -4,29 +4,22 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/materials/material.hpp"
-#include "common/model/parameters.hpp"
+#include "common/materials/materials.hpp"
 #include "common/scene/reader.hpp"
 
 namespace talus::scene_reader {
 namespace {
 
-// The parameters a [random] table may vary: the scalar strength and stiffness parameters of a
-// material. The per-particle material registry (the layout issue) will replace this list.
-const std::vector<std::string> kRandomParameters = {
-    "cohesion",         "friction_angle",    "dilation_angle",          "youngs_modulus",
-    "poisson_ratio",    "tensile_strength",  "residual_cohesion",       "residual_friction_angle"};
+// The parameters a [random] table may vary: those a particle may carry as its own
+// (common/model/model.hpp, ParticleProperty), every key of the material's model but density and
+// saturated_density.
+bool may_be_random(const std::string& key) { return key != "density" && key != "saturated_density"; }
 
-bool mohr_coulomb_only(const std::string& parameter) {
-  return parameter != "youngs_modulus" && parameter != "poisson_ratio";
-}
-
-// `m` with its parameter `key` set to `value`.
-Material with_parameter(Material m, const std::string& key, double value) {
-  for_each_material_parameter(m, [&](const char* name, double& x) {
-    if (key == name) x = value;
-  });
-  return m;
+// The problem of `value` as the parameter `key` of `material` (its range may depend on the
+// material's other values: dilation_angle on friction_angle), or "".
+std::string problem_of(Material material, const std::string& key, double value) {
+  set_parameter(material, *parameter_slot(material, key), value);
+  return find_parameter(material, key)->problem(value);
 }
 
 std::string list(const std::vector<std::string>& names) {
@@ -35,16 +28,25 @@ std::string list(const std::vector<std::string>& names) {
   return out;
 }
 
-// The parameter's name, checked against kRandomParameters and the material's model.
+// The parameter's name, checked against the keys of the material's model.
 std::string read_parameter(TableReader& r, const Material& material) {
   const std::string parameter = r.text("parameter", std::nullopt);
-  if (std::find(kRandomParameters.begin(), kRandomParameters.end(), parameter) == kRandomParameters.end())
-    r.fail("parameter", "'" + echoed(parameter) + "' cannot be random (expected one of " + list(kRandomParameters) + ")");
-  if (material.model == MaterialModel::LinearElastic && mohr_coulomb_only(parameter))
-    r.fail("parameter", "materials." + material.name + " is linear_elastic: it has no " + parameter +
-                            " (a Mohr-Coulomb parameter)");
-  if (parameter.rfind("residual_", 0) == 0 && material.softening_end == 0)
-    r.fail("parameter", "materials." + material.name + " has no softening (softening_end), so no " + parameter);
+  const std::optional<Parameter> found = find_parameter(material, parameter);
+  if (!found || !may_be_random(parameter)) {
+    std::vector<std::string> keys;
+    for_each_parameter(material, [&](const Parameter& p, double) {
+      if (may_be_random(p.name)) keys.push_back(p.name);
+    });
+    r.fail("parameter", "'" + echoed(parameter) + "' cannot be random for materials." + material.name + ", a " +
+                            std::string(model_name(material)) + " material (expected one of " + list(keys) + ")");
+  }
+  // A key that acts only with another one on (the residual strength with softening_end).
+  if (found->needs) {
+    const std::optional<Parameter> needed = find_parameter(material, found->needs);
+    if (needed && needed->off && *parameter_value(material, found->needs) == *needed->off)
+      r.fail("parameter", "materials." + material.name + " has no " + found->needs + " (" + found->needs_why +
+                              "), so no " + parameter);
+  }
   return parameter;
 }
 
@@ -52,15 +54,15 @@ std::string read_parameter(TableReader& r, const Material& material) {
 // [mean (1 - sqrt(3) cov), mean (1 + sqrt(3) cov)] in the parameter's range too.
 void read_moments(TableReader& r, const Material& material, RandomField& field) {
   field.mean = r.number("mean", std::nullopt, 0, kInf, false);
-  if (const auto problem = parameter_problem(with_parameter(material, field.parameter, field.mean), field.parameter))
-    r.fail("mean", problem->message + " (the range of " + field.parameter + ")");
+  if (const std::string problem = problem_of(material, field.parameter, field.mean); !problem.empty())
+    r.fail("mean", problem + " (the range of " + field.parameter + ")");
   field.cov = r.number("cov", std::nullopt, 0, kInf, false);
   if (field.distribution != RandomDistribution::Uniform) return;
   const double half_width = std::sqrt(3.0) * field.cov * field.mean;
   for (const double end : {field.mean - half_width, field.mean + half_width})
-    if (const auto problem = parameter_problem(with_parameter(material, field.parameter, end), field.parameter))
+    if (const std::string problem = problem_of(material, field.parameter, end); !problem.empty())
       r.fail("cov", "the uniform distribution's range, mean (1 - sqrt(3) cov) to mean (1 + sqrt(3) cov), leaves "
-                    "the range of " + field.parameter + ": at its end " + problem->message);
+                    "the range of " + field.parameter + ": at its end " + problem);
 }
 
 // correlation_length = [horizontal, vertical]: two lengths > 0 m, inf for a field fully

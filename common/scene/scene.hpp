@@ -10,36 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "common/materials/materials.hpp"  // Material
+
 namespace talus {
-
-enum class MaterialModel { LinearElastic, MohrCoulomb };
-
-struct Material {
-  std::string name;
-  MaterialModel model = MaterialModel::LinearElastic;
-  double density = 0;         // kg/m^3
-  double youngs_modulus = 0;  // Pa
-  double poisson_ratio = 0;   // -
-  // Mohr-Coulomb only.
-  double friction_angle = 0;    // deg
-  double cohesion = 0;          // Pa
-  double dilation_angle = 0;    // deg
-  double tensile_strength = -1; // Pa; < 0: no tension cut-off (the cone's own apex limits tension)
-  // With a water table ([water]): the density below it (0: `density` everywhere), and the
-  // porosity n of the undrained mode's pore-water stiffness K_w / n (0: no excess pore pressure).
-  double saturated_density = 0;  // kg/m^3
-  double porosity = 0;           // -, in [0, 1)
-  // Strain softening (Mohr-Coulomb only; softening_end = 0: none). Between the equivalent
-  // plastic shear strains softening_start and softening_end, c, phi and psi fall linearly from
-  // their peak values to these residual ones (docs/water.md). With softening_reference_size
-  // > 0 the two strains are scaled by that size over the mesh's element size.
-  double residual_cohesion = 0;        // Pa
-  double residual_friction_angle = 0;  // deg
-  double residual_dilation_angle = 0;  // deg
-  double softening_start = 0;          // -
-  double softening_end = 0;            // -
-  double softening_reference_size = 0; // m; 0: no regularisation
-};
 
 // [water]: a phreatic surface. Pore pressure is positive in compression; below the table it is
 // hydrostatic in the vertical depth under the table at the point's x, u = unit_weight (h(x) - y)

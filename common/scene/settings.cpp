@@ -146,10 +146,10 @@ void read_post(TableReader& top, Scene& scene) {
         post.fail("bodies", "body '" + echoed(name) + "' is listed twice");
     }
   } else if (!body_given) {
-    // Every soil body: not fixed, Mohr-Coulomb.
+    // Every soil body: not fixed, of a material with a strength (Mohr-Coulomb).
     for (const auto& b : scene.bodies) {
       const int m = scene.material_index(b.material);
-      if (!b.fixed && m >= 0 && scene.materials[m].model == MaterialModel::MohrCoulomb) ps.bodies.push_back(b.name);
+      if (!b.fixed && m >= 0 && has_strength(scene.materials[m])) ps.bodies.push_back(b.name);
     }
   }
   ps.sliding_threshold = post.number("sliding_threshold", ps.sliding_threshold, 0, 1, false, true);

@@ -41,7 +41,7 @@
 // count or x86-64 machine with the same FFTW and libm.
 //
 // Marginals (value from the standard Gaussian g at a point), then clipped to the parameter's
-// valid range (common/materials/material.hpp, parameter_range; an open end is clipped to the nearest
+// valid range (common/materials/materials.hpp, find_parameter; an open end is clipped to the nearest
 // number inside it):
 //   lognormal  sigma^2 = ln(1 + cov^2), mu = ln(mean) - sigma^2 / 2, value = exp(mu + sigma g);
 //   normal     value = mean (1 + cov g): the clip moves the mean (and cuts the variance) when

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "common/error.hpp"
-#include "common/materials/material.hpp"
+#include "common/materials/materials.hpp"
 #include "preproc/random_field/random_field.hpp"
 
 namespace talus::preproc {
@@ -30,7 +30,7 @@ double Marginal::operator()(double g) const {
 }
 
 Marginal marginal(const RandomField& field, const Material& material) {
-  const NumberRange range = parameter_range(material, field.parameter);
+  const NumberRange range = find_parameter(material, field.parameter)->range;  // the scene checked the key
   constexpr double kInf = std::numeric_limits<double>::infinity();
   Marginal m;
   m.distribution = field.distribution;

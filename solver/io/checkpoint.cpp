@@ -58,9 +58,15 @@ std::vector<std::pair<std::string, int64_t>> model_fingerprints(const Model& mod
   sections.emplace_back("bodies", stored(bodies));
   for (const auto& m : model.materials) {
     Fingerprint material;
-    material.add(static_cast<int>(m.model));
-    for_each_material_parameter(m, [&](const char*, const auto& value) { add_setting(material, value); });
+    add_name(material, std::string(model_name(m)));
+    for_each_parameter(m, [&](const Parameter&, double value) { material.add(value); });
     sections.emplace_back("materials." + m.name, stored(material));
+  }
+  if (!model.properties.empty()) {  // no section without them
+    Fingerprint properties;
+    for (const auto& property : model.properties)
+      add_name(add_name(properties, property.material), property.parameter).add(property.values);
+    sections.emplace_back("particle properties", stored(properties));
   }
   Fingerprint contact;
   contact.add(model.contact.enabled).add(model.contact.friction);

@@ -20,7 +20,7 @@
 
 namespace talus::solver {
 
-inline constexpr int kCheckpointFormatVersion = 2;
+inline constexpr int kCheckpointFormatVersion = 3;
 
 // The time loop's state besides the simulation's.
 struct LoopState {

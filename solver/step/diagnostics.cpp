@@ -5,6 +5,7 @@
 #include "solver/parallel/mpi.hpp"
 #include "solver/parallel/threads.hpp"
 #include "solver/step/simulation.hpp"
+#include "solver/stress/stress.hpp"
 
 namespace talus::solver {
 
@@ -29,8 +30,7 @@ Energies energies(const Simulation& sim) {
   const ParticleEnergies sums =
       ordered_sum<ParticleEnergies>(static_cast<long>(P.moving_count), threads, [&](long p) {
         return ParticleEnergies{0.5 * P.m[p] * P.v[p].squaredNorm(), -P.m[p] * c.gravity.dot(P.x[p]),
-                                P.volume[p] * elastic_energy_density(c.materials[c.material_of_body[P.body[p]]],
-                                                                     effective_stress(P, p))};
+                                P.volume[p] * elastic_energy_density(c, P, p)};
       });
   // The kinetic energy of the velocity field that moves the material (A.12): the grid's, with
   // lumped masses. Particle (FLIP) velocities also carry components the grid cannot see; they

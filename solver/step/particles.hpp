@@ -20,7 +20,9 @@ enum FieldRole : unsigned {
 
 // FIELD(type, member, results name, unit, roles). Every field is re-ordered with the particles.
 // `history` holds the materials' per-particle state variables (MaterialState::history_width
-// values per particle, the widest material's), empty when no material keeps any.
+// values per particle, the widest material's), empty when no material keeps any; `properties`
+// the particle's own values of its material's parameters (material_state.hpp,
+// particle_properties: as many per particle as the material with most has), empty without any.
 #define TALUS_PARTICLE_FIELDS(FIELD)                                             \
   FIELD(Vec2, x, "position", "m", kCheckpointed | kWritten)                      \
   FIELD(Vec2, v, "", "m/s", kCheckpointed)                                       \
@@ -29,6 +31,7 @@ enum FieldRole : unsigned {
   FIELD(Vec4, sigma, "stress", "Pa", kCheckpointed | kWritten)                   \
   FIELD(double, eps_p, "plastic_strain", "-", kCheckpointed | kWritten)          \
   FIELD(double, history, "", "-", kCheckpointed)                                 \
+  FIELD(double, properties, "", "-", kCheckpointed)                              \
   FIELD(double, pore_pressure, "pore_pressure", "Pa", kCheckpointed | kWritten)  \
   FIELD(double, excess_pore_pressure, "", "Pa", kCheckpointed)                   \
   FIELD(Vec4, C, "", "1/s", kCheckpointed)                                       \

@@ -38,6 +38,7 @@ Particles particles_of(const Model& model, Model* owned, const Config& config) {
     P.load = model.load;       // (before the columns move out: particle_count() reads position)
     P.load_force = particle_load_forces(model);
   }
+  P.properties = particle_properties(model, config);  // (before the columns move out, likewise)
   P.x = column_of(model, owned, &Model::position);
   P.v = column_of(model, owned, &Model::velocity);
   P.m = column_of(model, owned, &Model::mass);
@@ -117,7 +118,6 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   config.full_cell_fill = model.run.full_cell_fill;
   config.initial_volume = model.volume;
   for (const auto& load : model.loads) config.load_ramp.push_back(load.ramp);
-  for (const auto& material : model.materials) config.materials.push_back(make_material(material));
   config.water = model.water;
   prepare_materials(config, model);
   for (const auto& body : model.bodies) {
@@ -125,6 +125,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
     config.body_fixed.push_back(body.fixed);
   }
   sim.particles = particles_of(model, owned, config);
+  prepare_particle_materials(config.materials, config.material_of_body, sim.particles);
   if (owned) release_particles(*owned);
   initial_pore_pressures(sim.particles, config, 0);
   reset_stencil(sim.scratch.stencil, family, config.mesh, sim.particles.size());
@@ -192,6 +193,7 @@ void release_particles(Model& model) {
   release(model.load);
   release(model.load_length);
   release(model.load_normal);
+  for (auto& property : model.properties) release(property.values);
 }
 
 void set_threads(Simulation& sim, int threads) {

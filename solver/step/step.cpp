@@ -113,10 +113,7 @@ bool step(Simulation& sim, double dt) {
 
   // The constitutive update with EVS's volumetric strain, and V_p *= 1 + tr d_eps.
   const CellSums cells{c.mesh, s.stencil, s.element_count, c.evs ? s.evs.node_mean.data() : nullptr};
-  s.bad_particle = c.water.enabled()
-                       ? update_stresses_with_water(P, s.d_eps, cells, c, sim.time + dt, threads)
-                       : update_stresses(P, s.d_eps, cells, c.materials, c.material_of_body, c.initial_volume,
-                                         threads);
+  s.bad_particle = update_stresses(P, s.d_eps, cells, c, sim.time + dt, dt, threads);
   clock.lap(PhaseTimes::Stresses);
 
   // Each particle's element and stencil for the next step.

@@ -1,66 +1,92 @@
-// Materials as the solver uses them: parameters precomputed once from the scene's Material,
-// and one stress update per particle chosen by a switch (no virtual calls in the hot loop).
+// A material as the solver holds it: its model's state prepared once from the parameters
+// (common/materials/materials.hpp), what the time step and the water need of it, and its
+// per-particle properties. The stress loop (stress.cpp) dispatches on the prepared state's model
+// with no virtual call.
 #pragma once
 #include <optional>
+#include <vector>
 
-#include "common/scene/scene.hpp"
-#include "common/materials/mohr_coulomb.hpp"
+#include "common/materials/materials.hpp"
 #include "solver/interpolation/mesh.hpp"
+#include "solver/step/particles.hpp"
+
+namespace talus {
+struct Model;
+}
 
 namespace talus::solver {
 
-struct MaterialState {
-  MaterialModel model = MaterialModel::LinearElastic;
-  double density = 0;
-  double shear_modulus = 0, bulk_modulus = 0;  // plane strain uses the 3D moduli
-  double wave_speed = 0;                       // c_d = sqrt((K + 4G/3) / rho)
-  MohrCoulombParams mohr_coulomb{};  // the peak strength
-  // Strain softening (softening true): between eps_p = softening_start and softening_end (after
-  // the element-size regularisation, setup.cpp) c, phi and psi go linearly from the peak values
-  // to the residual ones; `residual` is the end point, `peak` and `residual_strength` the
-  // (reduced) values interpolated in between.
-  bool softening = false;
-  double softening_start = 0, softening_end = 0;
-  MohrCoulombParams residual{};
-  struct Strength {
-    double cohesion = 0, friction_angle = 0, dilation_angle = 0;  // Pa, deg, deg
-  } peak, residual_strength;
-  double youngs_modulus = 0, poisson_ratio = 0, tensile_strength = -1;
-  // Undrained water: the pore water's stiffness over the porosity, K_w / n (Pa); 0 otherwise.
-  double pore_stiffness = 0;
-  // State variables the material keeps per particle besides the stress and eps_p, in
-  // Particles::history (none for the materials so far).
-  int history_width = 0;
+struct Config;  // simulation.hpp
+
+// A particle's own state, for a material with per-particle properties: what MaterialState holds
+// for the material, from the material's parameters with the particle's values.
+struct ParticleMaterial {
+  PreparedMaterial prepared;
+  double shear_modulus = 0, bulk_modulus = 0, pore_stiffness = 0;
 };
 
+struct MaterialState {
+  PreparedMaterial prepared;  // from the material's parameters, its strength divided by `reduction`
+  double density = 0;
+  double shear_modulus = 0, bulk_modulus = 0;  // G, K: plane strain uses the 3D moduli
+  // c_d = sqrt((K + 4G/3) / rho), with the undrained pore stiffness; with per-particle
+  // properties, the fastest of the material's and its particles' (the time step's bound).
+  double wave_speed = 0;
+  // Undrained water: the pore water's stiffness over the porosity, K_w / n (Pa); 0 otherwise.
+  double pore_stiffness = 0;
+  // State variables per particle in Particles::history (Mohr-Coulomb's softening: 1).
+  int history_width = 0;
+
+  // What preparing the state again needs (strength reduction, particles with properties).
+  Material material;
+  PrepareContext context;
+  std::optional<double> reduction;  // the strength-reduction factor; none: the scene's strength
+  double water_bulk_modulus = 0;    // K_w when undrained, else 0
+
+  // Per-particle properties (empty: none): where particle p's k-th value,
+  // Particles::properties[p * width + k] (width: the widest material's count), goes in the
+  // material's parameters.
+  std::vector<ParameterSlot> property_slots;
+  bool elastic_columns = false;  // youngs_modulus or poisson_ratio is among them
+  // Its particles' own states, prepared once (prepare_particle_materials), not every step: the
+  // row of particle id i is row_of_id[i] (-1: a particle of another material).
+  std::vector<int32_t> row_of_id;
+  std::vector<ParticleMaterial> particle_materials;
+  const ParticleMaterial& of_particle(int32_t id) const { return particle_materials[row_of_id[id]]; }
+};
+
+// The state of a material alone: no mesh (no softening regularisation), no water.
 MaterialState make_material(const Material& material);
 
-// Sets the strength of a Mohr-Coulomb material divided by `factor` (none: the scene's): c / F,
-// tan(phi) / F and tan(psi) / F (psi capped at phi), the tension cut-off / F, peak and residual
-// alike (strength reduction, solver/strength_reduction.cpp).
-void set_strength(MaterialState& state, const Material& material, std::optional<double> factor);
+// Every material's state once the mesh and the water are in `config` (make_simulation): the
+// softening strains' element-size regularisation, the undrained pore stiffness and wave speed,
+// and the per-particle properties' slots (with the wave speed and history width over the
+// particles' own values). Throws talus::Error on a bad material or property.
+void prepare_materials(Config& config, const Model& model);
 
-// The Mohr-Coulomb update of a softening material, its strength taken at the particle's eps_p
-// before the step (explicit in the hardening variable). Returns d_gamma_p.
-double softening_update(const MaterialState& material, Vec4& sigma, const Vec4& d_eps, double eps_p);
+// Particles::properties in model order: particle p's values of its material's properties, in
+// the order of its property_slots, `width` (the most any material has) per particle, 0 in the
+// slots its material does not use. Empty without properties.
+std::vector<double> particle_properties(const Model& model, const Config& config);
 
-// Objective stress update of one particle: sigma is already rotated (Jaumann) by the caller;
-// adds the material's response to the strain increment d_eps and the increment of equivalent
-// plastic shear strain to eps_p (nothing for elastic materials). `history` points at the
-// particle's history_width state variables (unused so far).
-inline void update_stress(const MaterialState& material, Vec4& sigma, const Vec4& d_eps, double& eps_p,
-                          double* history) {
-  switch (material.model) {
-    case MaterialModel::MohrCoulomb:
-      eps_p += material.softening ? softening_update(material, sigma, d_eps, eps_p)
-                                  : mohr_coulomb_update(material.mohr_coulomb, sigma, d_eps);
-      return;
-    case MaterialModel::LinearElastic:
-    default: elastic_update(material.shear_modulus, material.bulk_modulus, sigma, d_eps); return;
-  }
+// The strength of a material with one (has_strength) divided by `factor` (strength reduction,
+// solver/strength_reduction.cpp). Its particles' own states follow with
+// prepare_particle_materials.
+void reduce_strength(MaterialState& state, double factor);
+
+// The particle states of every material with per-particle properties, from the particles' values
+// (Particles::properties, their source) with the material's strength reduction: at set-up, with
+// every particle (on several ranks too: make_simulation builds the whole simulation first), and
+// after strength reduction. Preparing them once instead of every step saves what the stress
+// update of such a particle would cost again each step (docs/architecture.md, "Materials").
+void prepare_particle_materials(std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
+                                const Particles& P);
+
+// Elastic energy density of a stress state, (s:s)/(4G) + p^2/(2K) with the 3D mean stress p, with
+// the material's moduli or a particle's own.
+double elastic_energy_density(double shear_modulus, double bulk_modulus, const Vec4& sigma);
+inline double elastic_energy_density(const MaterialState& material, const Vec4& sigma) {
+  return elastic_energy_density(material.shear_modulus, material.bulk_modulus, sigma);
 }
-
-// Elastic energy density of a stress state, (s:s)/(4G) + p^2/(2K) with the 3D mean stress p.
-double elastic_energy_density(const MaterialState& material, const Vec4& sigma);
 
 }  // namespace talus::solver

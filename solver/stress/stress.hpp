@@ -1,12 +1,13 @@
 // The stress update (seed, section 4; A.13's constitutive step): each moving particle's material
 // (solver/stress/material_state.hpp) applied to its strain increment, with EVS's volumetric
 // part, the effective stress under water (water.hpp), the isolated-particle rule and the
-// volume update.
+// volume update: one loop with or without water.
 #pragma once
 #include <algorithm>
 #include <vector>
 
 #include "solver/interpolation/interpolation.hpp"
+#include "solver/step/simulation.hpp"
 #include "solver/stress/material_state.hpp"
 
 namespace talus::solver {
@@ -108,12 +109,22 @@ inline double grown_volume(double volume, double trace, const double* initial_vo
   return trace > 0 ? std::min(volume * (1 + trace), kMaxVolumeGrowth * initial_volume[id]) : volume * (1 + trace);
 }
 
-// The materials' stress update and the volume update V_p *= 1 + tr d_eps, capped at
-// kMaxVolumeGrowth V_p(0), with d_eps as EVS leaves it (StrainIncrement); an isolated particle
-// instead drops its stress and keeps its volume.
+// For every moving particle that is not isolated: the strain increment d_eps as EVS leaves it
+// (StrainIncrement, step.hpp), the material's update over the step dt (with a water table on the
+// effective stress sigma + u (1, 1, 1, 0), then the pore pressure u at time t, the end of the step,
+// and the total stress sigma' - u I), and the volume V_p *= 1 + tr d_eps, capped at
+// kMaxVolumeGrowth V_p(0). An isolated particle drops its stress and keeps its volume.
 // Returns the last (largest index) particle whose state became non-finite or inverted, or -1.
-long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
-                     const std::vector<MaterialState>& materials, const std::vector<int32_t>& material_of_body,
-                     const std::vector<double>& initial_volume, int threads);
+long update_stresses(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells, const Config& config,
+                     double t, double dt, int threads);
+
+// The elastic energy density of particle p's effective stress (energies(), diagnostics.cpp),
+// with its own E and nu when it has them.
+inline double elastic_energy_density(const Config& config, const Particles& P, std::size_t p) {
+  const MaterialState& material = config.materials[config.material_of_body[P.body[p]]];
+  if (!material.elastic_columns) return elastic_energy_density(material, effective_stress(P, p));
+  const ParticleMaterial& own = material.of_particle(P.id[p]);
+  return elastic_energy_density(own.shear_modulus, own.bulk_modulus, effective_stress(P, p));
+}
 
 }  // namespace talus::solver

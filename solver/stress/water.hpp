@@ -9,27 +9,40 @@
 
 namespace talus::solver {
 
-struct CellSums;  // step.hpp
-
-// The gravity ramp's fraction at time t: (1 - cos(pi t / T)) / 2 until T, then 1.
-double gravity_fraction(const Config& config, double t);
-
 // The hydrostatic pore pressure of a point at time t, the ramp included (Pa).
 inline double hydrostatic_pore_pressure(const Config& config, const Vec2& x, double t) {
-  return gravity_fraction(config, t) * config.water.pore_pressure(x, t);
+  return ramp_factor(t, config.gravity_ramp) * config.water.pore_pressure(x, t);
 }
 
-// update_stresses (step.hpp) for a scene with water: the material update on the effective
-// stress, then the new pore pressure at time t (the end of the step) and the total stress.
-// Returns the largest particle index with a non-finite state or a non-positive volume, or -1.
-long update_stresses_with_water(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& cells,
-                                const Config& config, double t, int threads);
+// The water table at one time, for the stress loop (stress.cpp): its points and rise, read
+// without calls; pore_pressure(x) is hydrostatic_pore_pressure at that time.
+struct WaterTableNow {
+  WaterTableNow() = default;  // no table
+  WaterTableNow(const Config& config, double t);
+  // fraction x gamma_w x max(0, h(x) - y); inline, as the stress loop's per-particle call.
+  double pore_pressure(const Vec2& x) const {
+    double h;
+    if (x.x() <= points[0].x()) {
+      h = points[0].y();
+    } else if (x.x() >= points[count - 1].x()) {
+      h = points[count - 1].y();
+    } else {
+      std::size_t k = 1;
+      while (points[k].x() < x.x()) ++k;
+      const Eigen::Vector2d& a = points[k - 1];
+      const Eigen::Vector2d& b = points[k];
+      h = a.y() + (b.y() - a.y()) * (x.x() - a.x()) / (b.x() - a.x());
+    }
+    const double depth = h + rise - x.y();
+    return depth > 0 ? fraction * unit_weight * depth : 0.0;
+  }
+
+  const Eigen::Vector2d* points = nullptr;
+  std::size_t count = 0;
+  double rise = 0, unit_weight = 0, fraction = 0;
+};
 
 // Sizes and fills the pore-pressure fields of particles at time t (make_simulation).
 void initial_pore_pressures(Particles& P, const Config& config, double t);
-
-// Water settings of the materials once the mesh is known (make_simulation): the undrained pore
-// stiffness K_w / n and its wave speed, and the softening strains' element-size regularisation.
-void prepare_materials(Config& config, const Model& model);
 
 }  // namespace talus::solver

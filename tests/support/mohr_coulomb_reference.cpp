@@ -20,12 +20,12 @@ Principal principal(const Eigen::Vector4d& v) {
   return result;
 }
 
-double yield(const MohrCoulombParams& p, const Eigen::Vector4d& sigma) {
+double yield(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma) {
   const Eigen::Vector3d s = principal(sigma).values;
   return (s[0] - s[2]) + (s[0] + s[2]) * p.sin_phi - 2.0 * p.cohesion * p.cos_phi;
 }
 
-Eigen::Matrix4d stiffness(const MohrCoulombParams& p) {
+Eigen::Matrix4d stiffness(const MohrCoulombConstants& p) {
   const double g = p.shear_modulus, lambda = p.bulk_modulus - 2.0 * g / 3.0;
   Eigen::Matrix4d d = Eigen::Matrix4d::Zero();
   d.topLeftCorner<3, 3>().setConstant(lambda);
@@ -44,20 +44,20 @@ Eigen::Vector4d rotated(const Eigen::Vector4d& v, double angle) {
 std::vector<Case> cases() {
   const double e = 20e6, c = 10e3;
   return {
-      {"associated", MohrCoulombParams::from(e, 0.3, 30, c, 30, -1)},
-      {"non_dilatant", MohrCoulombParams::from(e, 0.3, 30, c, 0, -1)},
-      {"partly_dilatant", MohrCoulombParams::from(e, 0.25, 35, c, 10, -1)},
-      {"poisson_zero", MohrCoulombParams::from(e, 0.0, 20, c, 20, -1)},
-      {"tresca", MohrCoulombParams::from(e, 0.3, 0, 2 * c, 0, -1)},
-      {"associated_cut_off", MohrCoulombParams::from(e, 0.3, 30, c, 30, 5e3)},
-      {"non_dilatant_zero_tension", MohrCoulombParams::from(e, 0.3, 30, c, 0, 0)},
-      {"tresca_cut_off", MohrCoulombParams::from(e, 0.3, 0, 2 * c, 0, 10e3)},
+      {"associated", MohrCoulombConstants::from(e, 0.3, 30, c, 30, -1)},
+      {"non_dilatant", MohrCoulombConstants::from(e, 0.3, 30, c, 0, -1)},
+      {"partly_dilatant", MohrCoulombConstants::from(e, 0.25, 35, c, 10, -1)},
+      {"poisson_zero", MohrCoulombConstants::from(e, 0.0, 20, c, 20, -1)},
+      {"tresca", MohrCoulombConstants::from(e, 0.3, 0, 2 * c, 0, -1)},
+      {"associated_cut_off", MohrCoulombConstants::from(e, 0.3, 30, c, 30, 5e3)},
+      {"non_dilatant_zero_tension", MohrCoulombConstants::from(e, 0.3, 30, c, 0, 0)},
+      {"tresca_cut_off", MohrCoulombConstants::from(e, 0.3, 0, 2 * c, 0, 10e3)},
   };
 }
 
-bool has_cut_off(const MohrCoulombParams& p) { return p.tensile_strength >= 0; }
+bool has_cut_off(const MohrCoulombConstants& p) { return p.tensile_strength >= 0; }
 
-Eigen::Vector4d admissible_stress(const MohrCoulombParams& p, std::mt19937& random) {
+Eigen::Vector4d admissible_stress(const MohrCoulombConstants& p, std::mt19937& random) {
   const double c = p.cohesion;
   std::uniform_real_distribution<double> normal(-12 * c, 3 * c), shear(-3 * c, 3 * c);
   for (;;) {
@@ -68,7 +68,7 @@ Eigen::Vector4d admissible_stress(const MohrCoulombParams& p, std::mt19937& rand
   }
 }
 
-Eigen::Vector4d strain_increment(const MohrCoulombParams& p, std::mt19937& random) {
+Eigen::Vector4d strain_increment(const MohrCoulombConstants& p, std::mt19937& random) {
   std::uniform_real_distribution<double> unit(-1, 1), exponent(-3, 1.5);
   const double size = p.cohesion / p.shear_modulus * std::pow(10.0, exponent(random));
   Eigen::Vector4d d_eps(unit(random), unit(random), unit(random), unit(random));

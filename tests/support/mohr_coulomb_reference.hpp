@@ -24,29 +24,29 @@ struct Principal {
 Principal principal(const Eigen::Vector4d& v);
 
 // f from the principal stresses.
-double yield(const MohrCoulombParams& p, const Eigen::Vector4d& sigma);
+double yield(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma);
 
 // Plane strain isotropic D acting on (xx, yy, zz, xy) with the tensor shear strain.
-Eigen::Matrix4d stiffness(const MohrCoulombParams& p);
+Eigen::Matrix4d stiffness(const MohrCoulombConstants& p);
 
 // v rotated in the xy plane by `angle` (radians).
 Eigen::Vector4d rotated(const Eigen::Vector4d& v, double angle);
 
 struct Case {
   std::string name;
-  MohrCoulombParams params;
+  MohrCoulombConstants params;
 };
 
 // The parameter sets: associated, non-dilatant, partly dilatant, Poisson's ratio 0, Tresca,
 // and three with a tension cut-off.
 std::vector<Case> cases();
 
-bool has_cut_off(const MohrCoulombParams& p);
+bool has_cut_off(const MohrCoulombConstants& p);
 
 // A random stress inside both criteria, by rejection.
-Eigen::Vector4d admissible_stress(const MohrCoulombParams& p, std::mt19937& random);
+Eigen::Vector4d admissible_stress(const MohrCoulombConstants& p, std::mt19937& random);
 
 // A random strain increment whose size spans elastic steps to ones far past the apex.
-Eigen::Vector4d strain_increment(const MohrCoulombParams& p, std::mt19937& random);
+Eigen::Vector4d strain_increment(const MohrCoulombConstants& p, std::mt19937& random);
 
 }  // namespace talus::testing

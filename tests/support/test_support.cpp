@@ -212,8 +212,7 @@ void fix_base_roll_sides(Model& model) {
 }
 
 Material elastic(double density, double youngs_modulus, double poisson_ratio) {
-  Material m;
-  m.model = MaterialModel::LinearElastic;
+  Material m;  // linear elastic, the default model
   m.density = density;
   m.youngs_modulus = youngs_modulus;
   m.poisson_ratio = poisson_ratio;
@@ -249,9 +248,10 @@ std::optional<double> lube_runout(double a) {
 Material mohr_coulomb(double density, double youngs_modulus, double poisson_ratio, double friction_angle,
                       double cohesion) {
   Material m = elastic(density, youngs_modulus, poisson_ratio);
-  m.model = MaterialModel::MohrCoulomb;
-  m.friction_angle = friction_angle;
-  m.cohesion = cohesion;
+  MohrCoulomb::Parameters own;
+  own.friction_angle = friction_angle;
+  own.cohesion = cohesion;
+  m.model = own;
   return m;
 }
 
