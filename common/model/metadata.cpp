@@ -23,6 +23,9 @@ void write_setting(const h5::File& file, const std::string& group, const char* n
 void write_setting(const h5::File& file, const std::string& group, const char* name, Transfer value) {
   h5::set_attribute(file, group, name, std::string(transfer_name(value)));
 }
+void write_setting(const h5::File& file, const std::string& group, const char* name, ShapeFunctions value) {
+  h5::set_attribute(file, group, name, std::string(shape_functions_name(value)));
+}
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void write_setting(const h5::File& file, const std::string& group, const char* name, Integer value) {
   h5::set_attribute(file, group, name, static_cast<int64_t>(value));
@@ -46,6 +49,13 @@ void read_setting(const h5::File& file, const std::string& group, const char* na
     throw Error(located(file.path(), group + "@" + name,
                         "unknown transfer '" + text + "' (expected flip, pic_blend, xpic or apic)"));
   value = *transfer;
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, ShapeFunctions& value) {
+  const std::string text = h5::get_string(file, group, name);
+  const auto family = shape_functions_from_name(text);
+  if (!family)
+    throw Error(located(file.path(), group + "@" + name, "unknown shape functions '" + text + "' (expected linear or bspline)"));
+  value = *family;
 }
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {
@@ -227,11 +237,12 @@ void read_metadata(const h5::File& file, Model& model) {
 
   RunSettings& run = model.run;
   // Files written before the transfer was a setting meant FLIP, blended when pic_fraction > 0,
-  // and had no xpic_order (2); files from before mixed integration integrate over the particles.
+  // and had no xpic_order (2); files from before mixed integration integrate over the particles;
+  // files from before the shape families are linear.
   const bool has_transfer = h5::has_attribute(file, "settings/run", "transfer");
   for_each_run_setting(run, [&](const char* name, auto& value) {
     const std::string key = name;
-    if ((key == "transfer" || key == "xpic_order" || key == "full_cell_fill") &&
+    if ((key == "transfer" || key == "xpic_order" || key == "full_cell_fill" || key == "shape_functions") &&
         !h5::has_attribute(file, "settings/run", name))
       return;
     read_setting(file, "settings/run", name, value);

@@ -4,7 +4,8 @@
 // scene key and its range). A material's parameters have their own visitor
 // (common/materials/materials.hpp, for_each_parameter).
 //
-// visit(name, value) receives a reference to a double, bool, int, long, Eigen::Vector2d or Transfer;
+// visit(name, value) receives a reference to a double, bool, int, long, Eigen::Vector2d, Transfer or
+// ShapeFunctions;
 // const when the settings are.
 #pragma once
 #include <string>
@@ -30,6 +31,7 @@ void for_each_run_setting(Run& run, Visit&& visit) {
   visit("rest_ratio", run.rest_ratio);
   visit("rest_window", run.rest_window);
   visit("max_steps", run.max_steps);
+  visit("shape_functions", run.shape_functions);
 }
 
 }  // namespace talus

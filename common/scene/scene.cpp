@@ -40,6 +40,16 @@ std::optional<Transfer> transfer_from_name(const std::string& name) {
   return std::nullopt;
 }
 
+const char* shape_functions_name(ShapeFunctions family) {
+  return family == ShapeFunctions::QuadraticBspline ? "bspline" : "linear";
+}
+
+std::optional<ShapeFunctions> shape_functions_from_name(const std::string& name) {
+  for (ShapeFunctions f : {ShapeFunctions::Linear, ShapeFunctions::QuadraticBspline})
+    if (name == shape_functions_name(f)) return f;
+  return std::nullopt;
+}
+
 double pair_friction(const ContactSettings& contact, const std::string& a, const std::string& b) {
   for (const auto& pair : contact.pairs)
     if ((pair.body_a == a && pair.body_b == b) || (pair.body_a == b && pair.body_b == a)) return pair.friction;

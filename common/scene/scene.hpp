@@ -248,6 +248,9 @@ struct Scene {
 // "flip", "pic_blend", "xpic", "apic"; and back (nullopt for an unknown name).
 const char* transfer_name(Transfer transfer);
 std::optional<Transfer> transfer_from_name(const std::string& name);
+// "linear", "bspline"; and back (nullopt for an unknown name).
+const char* shape_functions_name(ShapeFunctions family);
+std::optional<ShapeFunctions> shape_functions_from_name(const std::string& name);
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 

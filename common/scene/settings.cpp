@@ -91,8 +91,7 @@ void read_run(TableReader& top, Scene& scene) {
     run.fail("xpic_order", "applies to transfer = \"xpic\" only (the transfer is \"" + transfer + "\")");
   if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
   const std::string shape_functions = run.text("shape_functions", "linear");
-  if (shape_functions == "linear") rs.shape_functions = ShapeFunctions::Linear;
-  else if (shape_functions == "bspline") rs.shape_functions = ShapeFunctions::QuadraticBspline;
+  if (const auto family = shape_functions_from_name(shape_functions)) rs.shape_functions = *family;
   else run.fail("shape_functions", "unknown shape functions '" + echoed(shape_functions) + "' (expected linear or bspline)");
   const bool bspline = rs.shape_functions == ShapeFunctions::QuadraticBspline;
   if (bspline && scene.mesh.pattern != MeshPattern::Grid)

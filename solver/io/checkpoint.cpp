@@ -25,6 +25,10 @@ int64_t stored(const Fingerprint& f) {
 // A setting's value: numbers and flags as they are, vectors component by component.
 void add_setting(Fingerprint& f, const Eigen::Vector2d& value) { f.add(value.x()).add(value.y()); }
 void add_setting(Fingerprint& f, Transfer value) { f.add(static_cast<int>(value)); }
+// Linear adds nothing, so checkpoints from before the shape families still match.
+void add_setting(Fingerprint& f, ShapeFunctions value) {
+  if (value != ShapeFunctions::Linear) f.add(static_cast<int>(value));
+}
 template <class T>
 void add_setting(Fingerprint& f, const T& value) {
   f.add(value);

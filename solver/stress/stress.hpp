@@ -4,6 +4,7 @@
 // volume update: one loop with or without water.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <vector>
 
 #include "solver/interpolation/interpolation.hpp"
@@ -21,8 +22,16 @@ namespace talus::solver {
 // gives at most 1.5 kPa). So an isolated particle carries no stress and keeps its volume.
 // "Alone" needs particles smaller than their element: with one particle per cell every particle
 // is alone, so a particle is isolated only when it also fills less than half of its element.
-inline bool is_isolated(int32_t particles_in_element, double volume, double element_area) {
-  return particles_in_element == 1 && 2 * volume < element_area;
+// And a particle at a body's free surface may be alone in its triangle while its neighbours
+// hold it (the hanging bar of tests/hanging_bar_test.cpp, whose surface particles dropped their
+// stress and fell): a particle is isolated only when the elements across its element's edges
+// are empty too.
+inline bool is_isolated(const int32_t* particles_in_element, const std::array<int32_t, 3>& neighbours, int32_t e,
+                        double volume, double element_area) {
+  if (particles_in_element[e] != 1 || !(2 * volume < element_area)) return false;
+  for (const int32_t n : neighbours)
+    if (n >= 0 && particles_in_element[n] > 0) return false;
+  return true;
 }
 
 // What the stress update takes from the cell pass, and per thread the particle's strain
@@ -41,6 +50,7 @@ class StrainIncrement {
   StrainIncrement(const CellSums& sums, const Particles& P)
       : row_(sums.stencil.row.data()), row_node_(sums.stencil.row_node.data()), width_(sums.stencil.width),
         node_mean_(sums.node_mean), count_(sums.element_count.data()), area_(sums.mesh.area.data()),
+        neighbours_(sums.mesh.neighbours.data()),
         element_(P.element.data()), volume_(P.volume.data()) {}
   Vec4 operator()(long p, const Vec4& d) {
     if (!node_mean_) return d;
@@ -57,7 +67,7 @@ class StrainIncrement {
   }
   bool isolated(long p) const {
     const int32_t e = element_[p];
-    return is_isolated(count_[e], volume_[p], area_[e]);
+    return is_isolated(count_, neighbours_[e], e, volume_[p], area_[e]);
   }
 
  private:
@@ -67,6 +77,7 @@ class StrainIncrement {
   const double* node_mean_;
   const int32_t* count_;
   const double* area_;
+  const std::array<int32_t, 3>* neighbours_;
   const int32_t* element_;
   const double* volume_;
   int32_t run_row_ = -1;
