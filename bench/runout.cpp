@@ -56,7 +56,8 @@ TransferChoice transfer_choice(const std::string& name) {
 
 struct Options {
   std::vector<std::string> parts = {"column", "slope", "vibration"};
-  std::vector<std::string> transfers = {"flip", "pic_blend", "xpic2", "xpic5", "apic"};
+  // apic needs the B-spline family: --set run.shape_functions=bspline --set mesh.pattern=grid.
+  std::vector<std::string> transfers = {"flip", "pic_blend", "xpic2", "xpic5"};
   std::vector<double> aspect = {0.5, 3};
   std::vector<double> sizes = {0.5, 0.25};
   std::vector<std::string> overrides;  // --set, for every column and slope run
@@ -246,7 +247,8 @@ int usage(const char* self, int status) {
   std::fprintf(status ? stderr : stdout,
                "usage: %s [--only column|slope|vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
                "          [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
-               "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic\n"
+               "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic (apic with\n"
+               "               --set run.shape_functions=bspline --set mesh.pattern=grid)\n"
                "  --aspect     column aspect ratios (default 0.5,3)\n"
                "  --sizes      slope element sizes in m (default 0.5,0.25)\n"
                "  --set        a scene override for every column and slope run\n",

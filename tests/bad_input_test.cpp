@@ -254,7 +254,16 @@ std::vector<Row> rows() {
       {"negative mesh size", [](auto d) { return scene_change(d, "size = 0.25", "size = -0.25"); },
        {"mesh.size", "got -0.25"}},
       {"unknown mesh pattern", [](auto d) { return scene_change(d, "size = 0.25", "size = 0.25\npattern = \"cross\""); },
-       {"mesh.pattern", "unknown pattern 'cross'", "expected delaunay or crossed"}},
+       {"mesh.pattern", "unknown pattern 'cross'", "expected delaunay, crossed or grid"}},
+      {"unknown shape functions",
+       [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = 0.01\nshape_functions = \"cubic\""); },
+       {"run.shape_functions", "unknown shape functions 'cubic'", "linear or bspline"}},
+      {"B-splines on Delaunay triangles",
+       [](auto d) {
+         return scene_change(d, "end_time = 0.01", "end_time = 0.01\nshape_functions = \"bspline\"") +
+                " --set mesh.pattern=delaunay";
+       },
+       {"run.shape_functions", "mesh.pattern is \"delaunay\"", "grid"}},
       {"damping of one", [](auto d) { return scene_change(d, "damping = 0.0", "damping = 1.0"); },
        {"run.damping", "[0, 1)"}},
       {"NaN in gravity", [](auto d) { return scene_change(d, "gravity = [0.0, -9.81]", "gravity = [0.0, nan]"); },

@@ -52,12 +52,7 @@ BarResult hang(ShapeFunctions family, double end_cells) {
   Model model = crossed_rectangle_mesh(0, 0, 2, rows, kCell);
   const double top = rows * kCell, bottom = below * kCell;
   add_box_body(model, "bar", elastic(kDensity, E, 0.0), 0, 2 * kCell, bottom, top);
-  model.fixed_nodes = model.node_sets["top"];
-  for (const char* side : {"left", "right"})
-    for (int32_t i : model.node_sets[side]) {
-      model.roller_nodes.push_back(i);
-      model.roller_normals.push_back(Eigen::Vector2d(1, 0));
-    }
+  testing::fix_base_roll_sides(model, "top");
   const double period = 4 * kLength / std::sqrt(E / kDensity);
   testing::set_run(model, 12 * period, Eigen::Vector2d(0, -kGravity));
   model.run.gravity_ramp = 4 * period;

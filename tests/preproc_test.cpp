@@ -357,6 +357,8 @@ TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
        {"block.toml", "run.pic_fraction", "pic_blend"}},
       {"xpic_order without XPIC", [](BlockScene&) {}, "--set run.transfer=apic --set run.xpic_order=3",
        {"block.toml", "run.xpic_order", "xpic"}},
+      {"APIC on linear triangles", [](BlockScene&) {}, "--set run.transfer=apic",
+       {"block.toml", "run.transfer", "apic", "bspline"}},
       {"XPIC of order 0", [](BlockScene&) {}, "--set run.transfer=xpic --set run.xpic_order=0",
        {"block.toml", "run.xpic_order", "[1, 100]"}},
       {"unknown integration", [](BlockScene&) {}, "--set run.integration=gauss",

@@ -94,9 +94,13 @@ void read_run(TableReader& top, Scene& scene) {
   if (const auto family = shape_functions_from_name(shape_functions)) rs.shape_functions = *family;
   else run.fail("shape_functions", "unknown shape functions '" + echoed(shape_functions) + "' (expected linear or bspline)");
   const bool bspline = rs.shape_functions == ShapeFunctions::QuadraticBspline;
+  if (rs.transfer == Transfer::Apic && !bspline)
+    run.fail("transfer", "\"apic\" needs run.shape_functions = \"bspline\": on linear triangles it throws particles "
+                         "out of every shipped scene (docs/transfer.md, \"APIC\")");
   if (bspline && scene.mesh.pattern != MeshPattern::Grid)
-    run.fail("shape_functions", "\"bspline\" takes its nodes from the grid pattern's lattice: set mesh.pattern = \"grid\" "
-                                "(its default with bspline)");
+    run.fail("shape_functions", std::string("\"bspline\" takes its nodes from the grid pattern's lattice, and mesh.pattern is \"") +
+                                    (scene.mesh.pattern == MeshPattern::Crossed ? "crossed" : "delaunay") +
+                                    "\": set mesh.pattern = \"grid\" (the default with bspline when the scene names no pattern)");
   if (bspline && rs.evs) run.fail("evs", "enhanced volumetric strain is for linear triangles; B-splines do not use it");
   const std::string integration = run.text("integration", "material_points");
   if (bspline && integration == "mixed")

@@ -202,8 +202,8 @@ int add_disc_body(Model& model, const std::string& name, const Material& materia
   });
 }
 
-void fix_base_roll_sides(Model& model) {
-  model.fixed_nodes = model.node_sets["bottom"];
+void fix_base_roll_sides(Model& model, const char* fixed) {
+  model.fixed_nodes = model.node_sets[fixed];
   for (const char* side : {"left", "right"})
     for (int32_t i : model.node_sets[side]) {
       model.roller_nodes.push_back(i);

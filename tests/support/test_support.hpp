@@ -70,8 +70,8 @@ int add_disc_body(Model& model, const std::string& name, const Material& materia
                   double radius);
 
 // Fixes the "bottom" node set and puts the "left" and "right" sets on rollers (normal x), the
-// usual support of a column or block on rectangle_mesh.
-void fix_base_roll_sides(Model& model);
+// usual support of a column or block on rectangle_mesh; fixed = "top" hangs a bar instead.
+void fix_base_roll_sides(Model& model, const char* fixed = "bottom");
 
 // The deposit of a column collapse against a wall at x = 0 (docs/column.md): bins `bin` wide
 // from the wall out to the first empty bin hold the deposit; its tip is the furthest particle in
