@@ -149,6 +149,8 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.contact = scene.contact;
   model.post = scene.post;
   model.water = scene.water;
+  model.seismic = scene.seismic;
+  model.base_motion = scene.base_motion;
   check_initial_state(model, scene);
 
   if (report) {

@@ -87,6 +87,8 @@ struct Model {
   ContactSettings contact;
   PostSettings post;
   WaterSettings water;  // settings/water (absent: no water table)
+  SeismicSettings seismic;  // settings/seismic (absent: off)
+  BaseMotion base_motion;   // settings/base_motion (absent: the ground stays at rest)
 
   std::size_t particle_count() const { return position.size(); }
 };

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/materials/materials.hpp"  // Material
+#include "common/scene/seismic.hpp"
 
 namespace talus {
 
@@ -228,6 +229,8 @@ struct Scene {
   std::vector<SurfaceLoad> loads;
   std::vector<RandomField> random;  // [random.NAME], in the order of their names
   std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
+  SeismicSettings seismic;  // [seismic] (seismic.hpp)
+  BaseMotion base_motion;   // [base_motion] (seismic.hpp)
 
   int material_index(const std::string& name) const;  // -1 if absent
   int body_index(const std::string& name) const;      // -1 if absent

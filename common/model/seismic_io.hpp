@@ -1,0 +1,13 @@
+// settings/seismic and settings/base_motion of model.h5 and results.h5 (docs/model-format.md),
+// each written only when the scene has the table, so a model without them is unchanged.
+#pragma once
+#include "common/h5.hpp"
+#include "common/scene/seismic.hpp"
+
+namespace talus {
+
+void write_seismic(const h5::File& file, const SeismicSettings& seismic, const BaseMotion& motion);
+// Absent groups give the defaults (off). Throws talus::Error naming the file and the item.
+void read_seismic(const h5::File& file, SeismicSettings& seismic, BaseMotion& motion);
+
+}  // namespace talus
