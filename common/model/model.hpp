@@ -89,6 +89,7 @@ struct Model {
   WaterSettings water;  // settings/water (absent: no water table)
   SeismicSettings seismic;  // settings/seismic (absent: off)
   BaseMotion base_motion;   // settings/base_motion (absent: the ground stays at rest)
+  AbsorbingNodes absorbing;  // boundary_conditions/absorbing_* (absent: none)
 
   std::size_t particle_count() const { return position.size(); }
 };

@@ -63,7 +63,7 @@ struct Body {
   std::optional<InitialStress> initial_stress;
 };
 
-enum class BoundaryType { Fixed, Roller, Friction };
+enum class BoundaryType { Fixed, Roller, Friction, Absorbing };
 
 struct Boundary {
   std::string name;   // key of [boundaries.NAME]
@@ -74,6 +74,9 @@ struct Boundary {
   std::optional<Eigen::Vector2d> normal;
   // Friction: Coulomb coefficient (tan of the base friction angle) against the boundary.
   double friction = 0;
+  // Absorbing: the [materials] name whose density and wave speeds give the dashpots'
+  // impedances rho c_p and rho c_s (Lysmer and Kuhlemeyer 1969; docs/seismic.md).
+  std::string material;
 };
 
 // A surface load on a stretch of a body's outline, carried by the particles along it

@@ -190,6 +190,13 @@ void read_seismic(TableReader& top, Scene& scene) {
   r.finish();
 }
 
+void read_absorbing(TableReader& r, const Scene& scene, Boundary& boundary) {
+  boundary.material = r.text("material", std::nullopt);
+  if (scene.material_index(boundary.material) < 0)
+    r.fail("material", "no material named '" + echoed(boundary.material) + "' in [materials]");
+  if (r.has("normal")) r.fail("normal", "an absorbing boundary takes its normals from the mesh");
+}
+
 void read_base_motion(TableReader& top, Scene& scene) {
   const toml::table* table = top.table("base_motion");
   if (!table) return;
@@ -205,15 +212,30 @@ void read_base_motion(TableReader& top, Scene& scene) {
     if (index < 0) r.fail("bodies", "no body named '" + echoed(name) + "' ([bodies." + echoed(name) + "])");
     if (!scene.bodies[index].fixed) r.fail("bodies", "body '" + echoed(name) + "' is not fixed (fixed = true)");
   }
-  // The whole base moves: the model is solved in the ground's frame (seismic.hpp).
-  const std::string whole = ": the ground moves as one (the model is solved in its frame), so every boundary "
-                            "and every fixed body moves with it; list it";
-  for (const auto& b : scene.boundaries)
-    if (std::find(m.boundaries.begin(), m.boundaries.end(), b.name) == m.boundaries.end())
-      r.fail("boundaries", "boundary '" + b.name + "' is not listed" + whole);
-  for (const auto& b : scene.bodies)
-    if (b.fixed && std::find(m.bodies.begin(), m.bodies.end(), b.name) == m.bodies.end())
-      r.fail("bodies", "fixed body '" + b.name + "' is not listed" + whole);
+  const std::string base = r.text("base", "rigid");
+  if (base == "compliant") {
+    // The motion enters as a stress through the listed absorbing boundaries (seismic.hpp).
+    m.compliant = true;
+    if (m.boundaries.empty()) r.fail("boundaries", "a compliant base needs at least one absorbing boundary");
+    for (const auto& name : m.boundaries)
+      for (const auto& b : scene.boundaries)
+        if (b.name == name && b.type != BoundaryType::Absorbing)
+          r.fail("boundaries", "boundary '" + name + "' is not absorbing: a compliant base inputs the motion through "
+                               "absorbing boundaries (type = \"absorbing\")");
+    if (!m.bodies.empty()) r.fail("bodies", "a compliant base moves no fixed body");
+  } else if (base == "rigid") {
+    // The whole base moves: the model is solved in the ground's frame (seismic.hpp).
+    const std::string whole = ": the ground moves as one (the model is solved in its frame), so every boundary "
+                              "and every fixed body moves with it; list it";
+    for (const auto& b : scene.boundaries)
+      if (std::find(m.boundaries.begin(), m.boundaries.end(), b.name) == m.boundaries.end())
+        r.fail("boundaries", "boundary '" + b.name + "' is not listed" + whole);
+    for (const auto& b : scene.bodies)
+      if (b.fixed && std::find(m.bodies.begin(), m.bodies.end(), b.name) == m.bodies.end())
+        r.fail("bodies", "fixed body '" + b.name + "' is not listed" + whole);
+  } else {
+    r.fail("base", "unknown base '" + echoed(base) + "' (expected rigid or compliant)");
+  }
   const bool file = r.has("acceleration");
   const std::string type = r.text("type", file ? "record" : "");
   if (type == "sine") {

@@ -3,6 +3,7 @@
 // solver applies to the whole model.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,19 @@ struct SeismicSettings {
 // velocity returns to zero; its displacement keeps a drift of amplitude cycles / (f omega)).
 enum class MotionType { Record, Sine };
 
+// An absorbing boundary's nodes (Lysmer and Kuhlemeyer 1969), resolved when meshing: per node its
+// share of the boundary's length (half of each of its segments), the unit outward normal (length
+// weighted), the impedances rho c_p (normal) and rho c_s (tangential) of the boundary's material,
+// and whether it inputs a compliant base's motion. Empty: no absorbing boundary.
+struct AbsorbingNodes {
+  std::vector<int32_t> node;
+  std::vector<double> length;                // m
+  std::vector<Eigen::Vector2d> normal;       // unit, out of the domain
+  std::vector<Eigen::Vector2d> impedance;    // (rho c_p, rho c_s), Pa s/m
+  std::vector<int32_t> input;                // 1: the compliant base's motion enters here
+  bool empty() const { return node.empty(); }
+};
+
 struct BaseMotion {
   std::vector<std::string> boundaries;  // [boundaries.NAME] that move with the ground
   std::vector<std::string> bodies;      // fixed [bodies.NAME] that move with it
@@ -45,6 +59,11 @@ struct BaseMotion {
   double amplitude = 0, frequency = 0;  // m/s^2, Hz (Sine)
   int cycles = 0;
   double start = 0;                     // s: the run time at which the record's t = 0 falls
+  // A compliant base (base = "compliant"): the model stays in the fixed frame and the motion
+  // enters through the listed absorbing boundaries as the stress of their dashpots against the
+  // ground velocity, -rho c (v - v_g(t)) (Joyner and Chen 1975): with v_g the outcrop motion,
+  // twice the incident wave, the wave going down leaves the model through the same dashpots.
+  bool compliant = false;
 
   bool enabled() const { return type == MotionType::Sine ? amplitude != 0 : !time.empty(); }
   double duration() const;  // s, from the record's start to its end

@@ -46,10 +46,12 @@ struct Config {
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
 
-  // [base_motion]: the ground's acceleration; the model is solved in the ground's frame, so every
-  // particle feels -a_g(t) besides gravity (common/scene/seismic.hpp). Off: no cost in the step.
+  // [base_motion]: the ground's acceleration; on a rigid base the model is solved in the ground's
+  // frame, so every particle feels -a_g(t) besides gravity (ground_moves; common/scene/seismic.hpp),
+  // on a compliant base the absorbing boundaries put the motion in. Off: no cost in the step.
   BaseMotion base_motion;
   bool ground_moves = false;
+  AbsorbingNodes absorbing;  // dashpots (solver/boundary/absorbing.hpp); empty: none
 };
 
 // Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by

@@ -83,6 +83,13 @@ double energy_budget(const Simulation& sim, const Energies& start) {
     const double work = sim.config.base_motion.peak_acceleration() * box.diagonal().norm();
     for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * work;
   }
+  // A compliant base: the outcrop motion's kinetic energy, taken 100 times over (resonance).
+  if (sim.config.base_motion.compliant && !sim.config.absorbing.empty()) {
+    const BaseMotion& m = sim.config.base_motion;
+    double peak = 0;
+    for (int k = 0; k <= 1000; ++k) peak = std::max(peak, m.ground_velocity(m.start + k * m.duration() / 1000).norm());
+    for (std::size_t p = 0; p < P.moving_count; ++p) release += 50 * P.m[p] * peak * peak;
+  }
   if (sim.domain.distributed()) release = mpi::sum_in_rank_order(release);
   return start.kinetic + start.strain + release;
 }
