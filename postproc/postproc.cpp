@@ -67,12 +67,33 @@ struct Metrics {
   std::vector<std::pair<std::string, SoilStrength>> layers;  // per analysed body
   double surcharge = 0;  // N/m, the loads' total downward force on the analysed bodies
   std::optional<YieldCoefficient> k_y;  // with [seismic] or [base_motion] (seismic_json.hpp)
+  std::optional<ShakenSlope> shaken;    // with [base_motion] and a k_y
 
   std::optional<SpringMassCheck> spring;
   std::optional<BoxInclineCheck> box;
   double box_friction = 0;
   std::optional<NewmarkBlockCheck> newmark;  // with box_friction
 };
+
+// The shaken slope's crest against Newmark's estimate from k_y (seismic_json.hpp, ShakenSlope).
+ShakenSlope shaken_slope(const Results& results, const AnalysedBodies& ground, const AnalysedSlope& slope, double k_y) {
+  const BaseMotion& motion = results.metadata.base_motion;
+  const double toward_toe = slope.mirror.active ? -1.0 : 1.0;
+  const NewmarkBlock block{k_y * results.metadata.run.gravity.norm(), 1.0};
+  ShakenSlope out;
+  out.newmark_displacement =
+      newmark_sliding([&](double t) { return -toward_toe * motion.ground_acceleration(t).x(); }, block, motion.start,
+                      std::max(results.frame_time.back(), motion.start), 1e-4)
+          .final_displacement();
+  const Eigen::Vector2d crest = slope.mirror.point(slope.profile.crest);
+  std::size_t nearest = ground.particles.front();
+  for (std::size_t p : ground.particles)
+    if ((results.initial_position[p] - crest).norm() < (results.initial_position[nearest] - crest).norm()) nearest = p;
+  const Eigen::Vector2d moved = results.position.back()[nearest] - results.initial_position[nearest];
+  out.crest_displacement_toe = toward_toe * moved.x();
+  out.crest_displacement = moved.norm();
+  return out;
+}
 
 void slope_metrics(const Results& results, const AnalysedBodies& ground, const std::string& file, Metrics& m) {
   const PostSettings& post = results.metadata.post;
@@ -133,6 +154,7 @@ void slope_metrics(const Results& results, const AnalysedBodies& ground, const s
     const GroundLoads loads = ground_loads(ground, results.initial_position, results.load_force, results.volume);
     m.bishop = critical_circle(slope, results.metadata, ground, loads, {file});
     if (seismic_keys_due(results.metadata)) m.k_y = yield_coefficient(slope, results.metadata, ground, loads);
+    if (m.k_y && results.metadata.base_motion.enabled()) m.shaken = shaken_slope(results, ground, slope, m.k_y->k_y);
     const double gravity = results.metadata.run.gravity.norm();
     for (int index : ground.indices) {
       const BodyInfo& info = results.metadata.bodies[index];
@@ -246,7 +268,7 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
     }
     if (!results.load_force.empty()) json.key("bishop_surcharge_N_m").value(m.surcharge);
     write_water_keys(json, results.metadata.water);
-    if (seismic_keys_due(results.metadata)) write_seismic_keys(json, results.metadata, m.k_y);
+    if (seismic_keys_due(results.metadata)) write_seismic_keys(json, results.metadata, m.k_y, m.shaken);
   }
   if (m.spring) {
     json.key("spring_mass").begin_object()
@@ -308,6 +330,10 @@ void print_summary(const Metrics& m, std::ostream& log) {
     else
       log << "n/a\n";
   }
+  if (m.shaken)
+    log << "  shaken slope: crest moved " << format(m.shaken->crest_displacement, 3, " m") << " ("
+        << format(m.shaken->crest_displacement_toe, 3, " m") << " towards the toe); Newmark's estimate from k_y = "
+        << format(m.k_y->k_y, 3, "") << ": " << format(m.shaken->newmark_displacement, 3, " m") << "\n";
   if (m.bishop_done) {
     log << "  Bishop critical circle: ";
     if (m.bishop)

@@ -4,7 +4,8 @@
 
 namespace talus::postproc {
 
-void write_seismic_keys(JsonWriter& json, const Model& model, const std::optional<YieldCoefficient>& k_y) {
+void write_seismic_keys(JsonWriter& json, const Model& model, const std::optional<YieldCoefficient>& k_y,
+                        const std::optional<ShakenSlope>& shaken) {
   json.key("seismic").begin_object();
   json.key("k_h").value(model.seismic.k_h).key("k_v").value(model.seismic.k_v);
   json.key("k_y").value(k_y ? std::optional<double>(k_y->k_y) : std::nullopt);
@@ -15,6 +16,10 @@ void write_seismic_keys(JsonWriter& json, const Model& model, const std::optiona
   } else {
     json.null();
   }
+  if (shaken)
+    json.key("newmark_displacement_m").value(shaken->newmark_displacement)
+        .key("crest_displacement_toe_m").value(shaken->crest_displacement_toe)
+        .key("crest_displacement_m").value(shaken->crest_displacement);
   json.end_object();
 }
 

@@ -230,6 +230,11 @@ TEST_F(BadMotion, NonIncreasingTimesNaNOneRowAndUnknownNamesAreRefused) {
   EXPECT_NE(unlisted.find("fixed body 'surface' is not listed"), std::string::npos) << unlisted;
   const std::string missing = message("[base_motion]\nboundaries = [\"underside\"]\nbodies = [\"surface\"]\n", "");
   EXPECT_NE(missing.find("base_motion.acceleration: missing"), std::string::npos) << missing;
+  // A compliant base puts the motion in through absorbing boundaries only.
+  const std::string compliant = message(
+      "[base_motion]\nboundaries = [\"underside\"]\nbase = \"compliant\"\ntype = \"sine\"\namplitude = 1.0\n"
+      "frequency = 2.0\n", "");
+  EXPECT_NE(compliant.find("boundary 'underside' is not absorbing"), std::string::npos) << compliant;
 }
 
 TEST_F(BadMotion, TheDriverExitsWithOneMessageAndWritesNothing) {
