@@ -188,13 +188,18 @@ void validation_metrics(const Results& results, const AnalysedBody& body, Metric
     const double initial_y = centre_of_mass(results, body.particles, results.initial_position).y();
     m.spring = spring_mass_check(results.frame_time, centre_y, initial_y, post.spring_amplitude, post.spring_omega);
   }
-  if (wants(post, "box_incline"))
-    m.box = box_incline_check(results.frame_time, box_displacements(results, body, m), post.incline_angle,
+  // box_displacements sets m.box_friction: called first, then read.
+  if (wants(post, "box_incline")) {
+    const std::vector<Eigen::Vector2d> displacement = box_displacements(results, body, m);
+    m.box = box_incline_check(results.frame_time, displacement, post.incline_angle,
                               results.metadata.run.gravity.norm(), m.box_friction);
+  }
   // The shaken box against Newmark's block; results.h5 holds its positions in the ground's frame.
-  if (wants(post, "newmark_block"))
-    m.newmark = newmark_block_check(results.frame_time, box_displacements(results, body, m), post.incline_angle,
+  if (wants(post, "newmark_block")) {
+    const std::vector<Eigen::Vector2d> displacement = box_displacements(results, body, m);
+    m.newmark = newmark_block_check(results.frame_time, displacement, post.incline_angle,
                                     results.metadata.run.gravity.norm(), m.box_friction, results.metadata.base_motion);
+  }
 }
 
 void write_point(JsonWriter& json, const std::string& key, const Eigen::Vector2d& p) {
