@@ -1,5 +1,7 @@
 #include "postproc/analysed_slope.hpp"
 
+#include "postproc/pseudo_static.hpp"
+
 #include <algorithm>
 
 #include "common/error.hpp"
@@ -184,11 +186,28 @@ std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Mo
                           "Bishop's method needs a Mohr-Coulomb material (cohesion and friction angle); body '" +
                               model.bodies[index].name + "' is not"));
   }
-  if (bodies.indices.size() == 1 && loads.force.empty())
+  if (bodies.indices.size() == 1 && loads.force.empty() && !model.seismic.enabled())
     return critical_circle(slope, model.materials[model.bodies[bodies.indices.front()].material],
                            model.run.gravity.norm(), model.water);
   if (has_vertical_face(slope.profile.surface)) return std::nullopt;
-  const LayeredGround ground = layered_ground(slope, model, bodies, loads);
+  const LayeredGround layered = layered_ground(slope, model, bodies, loads);
+  if (model.seismic.enabled())
+    return critical_circle(slope, model, bodies, PseudoStatic(layered, model.seismic.k_h, model.seismic.k_v));
+  return critical_circle(slope, model, bodies, layered);
+}
+
+std::optional<YieldCoefficient> yield_coefficient(const AnalysedSlope& slope, const Model& model,
+                                                  const AnalysedBodies& bodies, const GroundLoads& loads) {
+  if (has_vertical_face(slope.profile.surface)) return std::nullopt;
+  const LayeredGround layered = layered_ground(slope, model, bodies, loads);
+  return yield_coefficient(
+      [&](double k_h) { return critical_circle(slope, model, bodies, PseudoStatic(layered, k_h, model.seismic.k_v)); },
+      1e-3);
+}
+
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Model& model,
+                                            const AnalysedBodies& bodies, const SliceModel& ground) {
+  if (has_vertical_face(slope.profile.surface)) return std::nullopt;
   // A critical circle may stay in an upper layer, tangent to the bottom of it (a slope on a
   // strong foundation): the search, which reaches the base exactly, runs again with each body's
   // lowest level above the base as the base.

@@ -10,6 +10,7 @@
 
 #include "common/model/model.hpp"
 #include "postproc/bishop.hpp"
+#include "postproc/pseudo_static.hpp"
 #include "postproc/slope_geometry.hpp"
 
 namespace talus::postproc {
@@ -93,6 +94,18 @@ GroundLoads ground_loads(const AnalysedBodies& bodies, const std::vector<Eigen::
 std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Model& model,
                                             const AnalysedBodies& bodies, const GroundLoads& loads,
                                             const Source& source);
+
+// The same search (the base and each body's lowest level above it) on any ground in the slope's
+// canonical frame, such as a PseudoStatic one; the result in the scene's frame.
+std::optional<BishopResult> critical_circle(const AnalysedSlope& slope, const Model& model,
+                                            const AnalysedBodies& bodies, const SliceModel& ground);
+
+// The yield coefficient k_y (pseudo_static.hpp) of the analysed bodies with the model's k_v: the
+// k_h at which the critical circle has F = 1, to 1e-3. With [seismic] the critical_circle above
+// takes the model's k_h and k_v (k_h towards the toe). Empty when the slope has F <= 1 without
+// k_h, or no admissible circle. The caller has checked the materials (critical_circle above).
+std::optional<YieldCoefficient> yield_coefficient(const AnalysedSlope& slope, const Model& model,
+                                                  const AnalysedBodies& bodies, const GroundLoads& loads);
 
 // The LayeredGround of the analysed bodies in the slope's canonical frame.
 LayeredGround layered_ground(const AnalysedSlope& slope, const Model& model, const AnalysedBodies& bodies,

@@ -82,6 +82,8 @@ std::optional<BishopResult> bishop_factor_of_safety(const SlopeProfile& profile,
     sin_alpha[i] = std::clamp((circle.centre.x() - x) / circle.radius, -1.0, 1.0);
     cos_alpha[i] = std::sqrt(1 - sin_alpha[i] * sin_alpha[i]);
     driving += forces[i].weight * sin_alpha[i];
+    // A pseudo-static force k_h W towards the toe at the slice's height: its moment about the centre / R.
+    if (forces[i].horizontal != 0) driving += forces[i].horizontal * (circle.centre.y() - forces[i].height) / circle.radius;
   }
   if (!(driving > 0)) return std::nullopt;
 

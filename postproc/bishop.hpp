@@ -30,11 +30,12 @@ struct BishopResult {
 };
 
 // Factor of safety of one circle by
-//   F = sum[(c b + (W - u b) tan phi) / m_alpha] / sum(W sin alpha),
+//   F = sum[(c b + (W - u b) tan phi) / m_alpha] / [sum(W sin alpha) + sum(H (y_c - y_H)) / R],
 //   m_alpha = cos alpha + sin alpha tan phi / F,
 // iterated from the ordinary-method value until |dF| < 1e-9 F. Slices of equal width between
 // the circle's entry and exit; alpha is the base inclination, positive where the base dips
-// downhill. Empty when the circle is not admissible: it must cut the surface once, in two
+// downhill. H is a slice's pseudo-static horizontal force towards the toe at height y_H
+// (SliceForces::horizontal, zero without [seismic]; pseudo_static.hpp), y_c the centre's height. Empty when the circle is not admissible: it must cut the surface once, in two
 // points inside the surface's x range (a circle through an end of the surface, such as a toe
 // that is the body's corner, cuts it there), stay above profile.base_y, have a positive driving
 // moment, and keep m_alpha > 0.2 on the slices whose base rises downhill (alpha < 0; Whitman

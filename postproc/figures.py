@@ -12,6 +12,7 @@ Writes into --out, according to what metrics.json holds:
   energy.png       kinetic, strain and change of potential energy   (always)
   spring_mass.png  MPM settlement against A (1 - cos(omega t))      (metric "spring_mass")
   box_incline.png  MPM displacement along the slope against a t^2/2 (metric "box_incline")
+  newmark_block.png  the shaken box's displacement against Newmark's block (metric "newmark_block")
 and with --animate (the scene's post.animate), by animation.py:
   runout.mp4, runout.gif  the particles coloured by displacement over the saved frames
 """
@@ -194,10 +195,10 @@ def energy(out, written):
     save(fig, out, "energy.png", written)
 
 
-def comparison(out, name, ylabel, title, written):
+def comparison(out, name, ylabel, title, written, reference="analytical"):
     data = read_csv(os.path.join(out, name + ".csv"))
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(data["time_s"], data["exact_m"], "k-", label="analytical")
+    ax.plot(data["time_s"], data["exact_m"], "k-", label=reference)
     ax.plot(data["time_s"], data["mpm_m"], "o", ms=3, mfc="none", label="MPM")
     ax.set_xlabel("time (s)")
     ax.set_ylabel(ylabel)
@@ -217,7 +218,7 @@ def main():
         metrics = json.load(handle)
     asked = set(metrics.get("metrics", []))
     written = []
-    if asked & {"runout", "failure_surface", "bishop"} or not asked & {"spring_mass", "box_incline"}:
+    if asked & {"runout", "failure_surface", "bishop"} or not asked & {"spring_mass", "box_incline", "newmark_block"}:
         deformed(args.results, metrics, args.out, written)
         pore_pressure(args.results, metrics, args.out, written)
     if "runout" in asked:
@@ -231,6 +232,12 @@ def main():
         b = metrics["box_incline"]
         comparison(args.out, "box_incline", "displacement along the slope (m)",
                    "box on a %.0f deg incline, mu = %.2f" % (b["angle_deg"], b["friction"]), written)
+    if "newmark_block" in asked:
+        b = metrics["newmark_block"]
+        comparison(args.out, "newmark_block", "down the incline, from the ground (m)",
+                   "shaken box, mu = %.2f: MPM %.4f m, Newmark %.4f m" % (
+                       b["friction"], b["mpm_displacement_m"], b["newmark_displacement_m"]),
+                   written, reference="Newmark (1965) rigid block")
     if args.animate:
         import animation
         front_csv = os.path.join(args.out, "front.csv")

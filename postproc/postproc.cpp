@@ -13,9 +13,11 @@
 #include "postproc/analysed_slope.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/bishop_json.hpp"
+#include "postproc/seismic_json.hpp"
 #include "postproc/circle_fit.hpp"
 #include "postproc/failure_surface.hpp"
 #include "postproc/figure_script.hpp"
+#include "postproc/newmark.hpp"
 #include "postproc/output.hpp"
 #include "postproc/results.hpp"
 #include "postproc/runout.hpp"
@@ -27,7 +29,8 @@ namespace fs = std::filesystem;
 namespace talus::postproc {
 namespace {
 
-const std::set<std::string> kMetrics = {"runout", "failure_surface", "bishop", "spring_mass", "box_incline"};
+const std::set<std::string> kMetrics = {"runout", "failure_surface", "bishop", "spring_mass", "box_incline",
+                                        "newmark_block"};
 
 bool wants(const PostSettings& post, const std::string& metric) {
   return std::find(post.metrics.begin(), post.metrics.end(), metric) != post.metrics.end();
@@ -63,11 +66,34 @@ struct Metrics {
   std::optional<BishopResult> bishop;
   std::vector<std::pair<std::string, SoilStrength>> layers;  // per analysed body
   double surcharge = 0;  // N/m, the loads' total downward force on the analysed bodies
+  std::optional<YieldCoefficient> k_y;  // with [seismic] or [base_motion] (seismic_json.hpp)
+  std::optional<ShakenSlope> shaken;    // with [base_motion] and a k_y
 
   std::optional<SpringMassCheck> spring;
   std::optional<BoxInclineCheck> box;
   double box_friction = 0;
+  std::optional<NewmarkBlockCheck> newmark;  // with box_friction
 };
+
+// The shaken slope's crest against Newmark's estimate from k_y (seismic_json.hpp, ShakenSlope).
+ShakenSlope shaken_slope(const Results& results, const AnalysedBodies& ground, const AnalysedSlope& slope, double k_y) {
+  const BaseMotion& motion = results.metadata.base_motion;
+  const double toward_toe = slope.mirror.active ? -1.0 : 1.0;
+  const NewmarkBlock block{k_y * results.metadata.run.gravity.norm(), 1.0};
+  ShakenSlope out;
+  out.newmark_displacement =
+      newmark_sliding([&](double t) { return -toward_toe * motion.ground_acceleration(t).x(); }, block, motion.start,
+                      std::max(results.frame_time.back(), motion.start), 1e-4)
+          .final_displacement();
+  const Eigen::Vector2d crest = slope.mirror.point(slope.profile.crest);
+  std::size_t nearest = ground.particles.front();
+  for (std::size_t p : ground.particles)
+    if ((results.initial_position[p] - crest).norm() < (results.initial_position[nearest] - crest).norm()) nearest = p;
+  const Eigen::Vector2d moved = results.position.back()[nearest] - results.initial_position[nearest];
+  out.crest_displacement_toe = toward_toe * moved.x();
+  out.crest_displacement = moved.norm();
+  return out;
+}
 
 void slope_metrics(const Results& results, const AnalysedBodies& ground, const std::string& file, Metrics& m) {
   const PostSettings& post = results.metadata.post;
@@ -127,6 +153,8 @@ void slope_metrics(const Results& results, const AnalysedBodies& ground, const s
     m.bishop_done = true;
     const GroundLoads loads = ground_loads(ground, results.initial_position, results.load_force, results.volume);
     m.bishop = critical_circle(slope, results.metadata, ground, loads, {file});
+    if (seismic_keys_due(results.metadata)) m.k_y = yield_coefficient(slope, results.metadata, ground, loads);
+    if (m.k_y && results.metadata.base_motion.enabled()) m.shaken = shaken_slope(results, ground, slope, m.k_y->k_y);
     const double gravity = results.metadata.run.gravity.norm();
     for (int index : ground.indices) {
       const BodyInfo& info = results.metadata.bodies[index];
@@ -138,6 +166,20 @@ void slope_metrics(const Results& results, const AnalysedBodies& ground, const s
   }
 }
 
+// The box of box_incline and newmark_block: its friction against the other body (the scene's
+// default without one) into m.box_friction, and its centre-of-mass displacement at each frame.
+std::vector<Eigen::Vector2d> box_displacements(const Results& results, const AnalysedBody& body, Metrics& m) {
+  const auto& bodies = results.metadata.bodies;
+  const std::string& box = bodies[body.index].name;
+  const auto other = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name != box; });
+  m.box_friction = other == bodies.end() ? results.metadata.contact.friction
+                                         : pair_friction(results.metadata.contact, box, other->name);
+  const Eigen::Vector2d start = centre_of_mass(results, body.particles, results.initial_position);
+  std::vector<Eigen::Vector2d> displacement;
+  for (const auto& frame : results.position) displacement.push_back(centre_of_mass(results, body.particles, frame) - start);
+  return displacement;
+}
+
 void validation_metrics(const Results& results, const AnalysedBody& body, Metrics& m) {
   const PostSettings& post = results.metadata.post;
   if (wants(post, "spring_mass")) {
@@ -146,17 +188,17 @@ void validation_metrics(const Results& results, const AnalysedBody& body, Metric
     const double initial_y = centre_of_mass(results, body.particles, results.initial_position).y();
     m.spring = spring_mass_check(results.frame_time, centre_y, initial_y, post.spring_amplitude, post.spring_omega);
   }
+  // box_displacements sets m.box_friction: called first, then read.
   if (wants(post, "box_incline")) {
-    const auto& bodies = results.metadata.bodies;
-    const std::string& box = bodies[body.index].name;
-    const auto other = std::find_if(bodies.begin(), bodies.end(), [&](const BodyInfo& b) { return b.name != box; });
-    m.box_friction = other == bodies.end() ? results.metadata.contact.friction
-                                           : pair_friction(results.metadata.contact, box, other->name);
-    const Eigen::Vector2d start = centre_of_mass(results, body.particles, results.initial_position);
-    std::vector<Eigen::Vector2d> displacement;
-    for (const auto& frame : results.position) displacement.push_back(centre_of_mass(results, body.particles, frame) - start);
+    const std::vector<Eigen::Vector2d> displacement = box_displacements(results, body, m);
     m.box = box_incline_check(results.frame_time, displacement, post.incline_angle,
                               results.metadata.run.gravity.norm(), m.box_friction);
+  }
+  // The shaken box against Newmark's block; results.h5 holds its positions in the ground's frame.
+  if (wants(post, "newmark_block")) {
+    const std::vector<Eigen::Vector2d> displacement = box_displacements(results, body, m);
+    m.newmark = newmark_block_check(results.frame_time, displacement, post.incline_angle,
+                                    results.metadata.run.gravity.norm(), m.box_friction, results.metadata.base_motion);
   }
 }
 
@@ -177,6 +219,7 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
   }
   json.key("results_file").value(results_path);
   json.key("frames").value(static_cast<long>(results.frames()));
+  if (results.metadata.base_motion.enabled()) write_ground_motion_keys(json, results.metadata.base_motion, results.frame_time.back());
   json.key("end_time_s").value(results.frame_time.back());
   json.key("run_complete").value(results.complete);
   json.key("metrics").begin_array();
@@ -230,12 +273,23 @@ std::string metrics_json(const Results& results, const AnalysedBody& body, const
     }
     if (!results.load_force.empty()) json.key("bishop_surcharge_N_m").value(m.surcharge);
     write_water_keys(json, results.metadata.water);
+    if (seismic_keys_due(results.metadata)) write_seismic_keys(json, results.metadata, m.k_y, m.shaken);
   }
   if (m.spring) {
     json.key("spring_mass").begin_object()
         .key("amplitude_m").value(results.metadata.post.spring_amplitude)
         .key("omega_rad_s").value(results.metadata.post.spring_omega)
         .key("max_error_over_amplitude").value(m.spring->max_error_over_amplitude)
+        .end_object();
+  }
+  if (m.newmark) {
+    json.key("newmark_block").begin_object()
+        .key("friction").value(m.box_friction)
+        .key("angle_deg").value(results.metadata.post.incline_angle)
+        .key("critical_acceleration_m_s2").value(m.newmark->block.critical_acceleration)
+        .key("mpm_displacement_m").value(m.newmark->mpm_final)
+        .key("newmark_displacement_m").value(m.newmark->newmark_final)
+        .key("relative_error").value(m.newmark->relative_error)
         .end_object();
   }
   if (m.box) {
@@ -281,6 +335,10 @@ void print_summary(const Metrics& m, std::ostream& log) {
     else
       log << "n/a\n";
   }
+  if (m.shaken)
+    log << "  shaken slope: crest moved " << format(m.shaken->crest_displacement, 3, " m") << " ("
+        << format(m.shaken->crest_displacement_toe, 3, " m") << " towards the toe); Newmark's estimate from k_y = "
+        << format(m.k_y->k_y, 3, "") << ": " << format(m.shaken->newmark_displacement, 3, " m") << "\n";
   if (m.bishop_done) {
     log << "  Bishop critical circle: ";
     if (m.bishop)
@@ -291,6 +349,10 @@ void print_summary(const Metrics& m, std::ostream& log) {
       log << "no admissible circle\n";
   }
   if (m.spring) log << "  spring and mass: max |y - y_exact| / A = " << format(m.spring->max_error_over_amplitude, 4, "") << "\n";
+  if (m.newmark)
+    log << "  Newmark's block (mu " << format(m.box_friction, 2, "") << ", a_c " << format(m.newmark->block.critical_acceleration, 4, " m/s^2")
+        << "): permanent displacement " << format(m.newmark->mpm_final, 4, " m") << " against Newmark's "
+        << format(m.newmark->newmark_final, 4, " m") << ", error " << format(m.newmark->relative_error, 4, "") << "\n";
   if (m.box) {
     log << "  box on incline (mu " << format(m.box_friction, 2, "") << "):";
     for (std::size_t i = 0; i < m.box->check_times.size(); ++i)
@@ -308,7 +370,7 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
   for (const auto& metric : post.metrics)
     if (!kMetrics.count(metric))
       throw Error(located(results_path, "settings/post/metrics",
-                          "unknown metric '" + metric + "' (expected runout, failure_surface, bishop, spring_mass or box_incline)"));
+                          "unknown metric '" + metric + "' (expected runout, failure_surface, bishop, spring_mass, box_incline or newmark_block)"));
   const AnalysedBody body = analysed_body(results.metadata, results.body, {results_path});
   const AnalysedBodies ground = analysed_bodies(results.metadata, results.body, {results_path});
 
@@ -325,6 +387,10 @@ int run_post(const std::string& results_path, const std::string& out_dir, std::o
   if (m.runout)
     write_csv((out / "front.csv").string(), {"time_s", "front_x_m", "front_velocity_m_s"},
               {results.frame_time, m.front_x, m.front_velocity});
+  if (results.metadata.base_motion.enabled()) write_ground_motion(results, (out / "ground_motion.csv").string());
+  if (m.newmark)
+    write_csv((out / "newmark_block.csv").string(), {"time_s", "mpm_m", "exact_m"},
+              {m.newmark->time, m.newmark->mpm, m.newmark->newmark});
   if (m.spring)
     write_csv((out / "spring_mass.csv").string(), {"time_s", "mpm_m", "exact_m"},
               {m.spring->time, m.spring->settlement, m.spring->exact});

@@ -33,6 +33,10 @@ struct SliceForces {
   double cohesion = 0;       // c' at the base (Pa)
   double tan_phi = 0;        // tan(phi') at the base
   double pore_pressure = 0;  // u at the base (Pa)
+  // A pseudo-static horizontal force towards +x (the toe), k_h W, and the height it acts at
+  // (the slice's mid-height; pseudo_static.hpp). Zero without [seismic].
+  double horizontal = 0;     // N per m
+  double height = 0;         // m
 };
 
 class SliceModel {

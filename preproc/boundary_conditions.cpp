@@ -57,6 +57,7 @@ NodeConstraints resolve_constraints(const std::vector<Eigen::Vector2d>& nodes, c
   std::map<int32_t, Eigen::Vector2d> rollers;
   std::map<int32_t, double> friction;  // the friction nodes among `rollers`, with their coefficient
   for (const auto& curve : curves) {
+    if (curve.type == BoundaryType::Absorbing) continue;  // dashpots, not constraints (absorbing.hpp)
     if (curve.type == BoundaryType::Fixed) {
       for (const auto& segment : curve.segments) fixed.insert(segment.begin(), segment.end());
       continue;

@@ -18,6 +18,7 @@
 
 #include "common/error.hpp"
 #include "preproc/background_mesh.hpp"
+#include "preproc/absorbing.hpp"
 #include "preproc/boundary_conditions.hpp"
 #include "preproc/estimate.hpp"
 #include "preproc/gmsh_geometry.hpp"
@@ -135,8 +136,9 @@ Model build_model(const Scene& scene, MeshReport* report) {
   }
 
   // 5. Boundary conditions.
-  const NodeConstraints constraints =
-      resolve_constraints(mesh.nodes, boundary_curves(geo, mesh, scene), model.triangles);
+  const std::vector<BoundaryCurve> curves = boundary_curves(geo, mesh, scene);
+  const NodeConstraints constraints = resolve_constraints(mesh.nodes, curves, model.triangles);
+  model.absorbing = absorbing_nodes(mesh.nodes, curves, model.triangles, scene);
   model.fixed_nodes = constraints.fixed_nodes;
   model.roller_nodes = constraints.roller_nodes;
   model.roller_normals = constraints.roller_normals;
@@ -153,6 +155,8 @@ Model build_model(const Scene& scene, MeshReport* report) {
   model.contact = scene.contact;
   model.post = scene.post;
   model.water = scene.water;
+  model.seismic = scene.seismic;
+  model.base_motion = scene.base_motion;
   check_initial_state(model, scene);
 
   if (report) {

@@ -190,6 +190,7 @@ EquilibriumState bring_to_equilibrium(const ReductionProblem& problem, int threa
     Simulation sim = make_simulation(*problem.model, threads);
     sim.config.damping = s.damping;
     sim.config.gravity_ramp = s.ramp * period;
+    if (problem.pseudo_static != Vec2::Zero()) sim.config.gravity += problem.pseudo_static;
     reduce_strength(sim, *problem.model, factor);
     EquilibriumAttempt attempt{factor, run_to_verdict(sim, problem, (s.ramp + s.min_time) * period,
                                                       (s.ramp + s.budget) * period, s.window * period)};

@@ -88,7 +88,17 @@ struct ReductionProblem {
   double height = 0;            // slope height H (m)
   int32_t monitor = 0;          // monitoring particle, model order
   ReductionSettings settings;
+  // [seismic]: the pseudo-static body force added to gravity from the start of the equilibrium
+  // phase (ramped with it) and kept in every trial (m/s^2; pseudo_static_force).
+  Vec2 pseudo_static{0, 0};
 };
+
+// k_h |g| towards the toe (-x when the slope descends towards -x) and k_v |g| upwards, for gravity
+// along -y; zero without [seismic].
+inline Vec2 pseudo_static_force(const SeismicSettings& seismic, const Vec2& gravity, bool descends_to_left) {
+  const double g = gravity.norm();
+  return Vec2((descends_to_left ? -1.0 : 1.0) * seismic.k_h * g, seismic.k_v * g);
+}
 
 // Elastic period T0 = 4 H / c_s of the problem (s).
 double elastic_period(const ReductionProblem& problem);

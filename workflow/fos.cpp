@@ -18,6 +18,7 @@
 #include "postproc/figure_script.hpp"
 #include "postproc/output.hpp"
 #include "postproc/runout.hpp"
+#include "postproc/seismic_json.hpp"
 #include "workflow/folder_lock.hpp"
 #include "preproc/preproc.hpp"
 #include "solver/strength_reduction.hpp"
@@ -138,17 +139,23 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   double surcharge = 0;
   for (const auto& f : loads.force) surcharge -= f.y();
   const std::optional<postproc::BishopResult> bishop = postproc::critical_circle(slope, model, body, loads, source);
+  std::optional<postproc::YieldCoefficient> k_y;
+  if (postproc::seismic_keys_due(model)) k_y = postproc::yield_coefficient(slope, model, body, loads);
 
   solver::ReductionProblem problem;
   problem.model = &model;
   problem.height = slope.profile.height;
   problem.monitor = monitoring_particle(slope, body, model);
   problem.settings.cfl = scene.run.cfl;
+  problem.pseudo_static = solver::pseudo_static_force(model.seismic, model.run.gravity, slope.mirror.active);
   const double period = solver::elastic_period(problem);
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   log << "talus fos: " << scene.name << ", " << model.particle_count() << " particles, " << model.triangles.size()
       << " elements, H = " << problem.height << " m, T0 = " << std::setprecision(3) << period << " s; "
       << "Bishop F = " << (bishop ? std::to_string(bishop->factor_of_safety) : "n/a") << std::endl;
+  if (postproc::seismic_keys_due(model))
+    log << "seismic: k_h = " << model.seismic.k_h << ", k_v = " << model.seismic.k_v
+        << ", Bishop's yield coefficient k_y = " << (k_y ? std::to_string(k_y->k_y) : "n/a") << std::endl;
 
   const auto equilibrium_start = Clock::now();
   const solver::EquilibriumState equilibrium = solver::bring_to_equilibrium(problem, threads, &log);
@@ -179,7 +186,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
 
   const FosReport report{scene,     model,  body.indices, problem,        equilibrium,         search, bishop,
                          surcharge, slip ? &*slip : nullptr, tolerance, period, search_seconds, equilibrium_seconds,
-                         threads};
+                         threads,    postproc::seismic_keys_due(model) ? &k_y : nullptr};
   postproc::write_file_atomically((out / "fos.json").string(), fos_json(report));
   if (slip) {
     std::vector<double> x, y;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "postproc/bishop_json.hpp"
+#include "postproc/seismic_json.hpp"
 #include "postproc/output.hpp"
 #include "postproc/slope_geometry.hpp"
 
@@ -90,6 +91,7 @@ std::string fos_json(const FosReport& r) {
   }
   postproc::write_bishop_keys(json, r.bishop);
   postproc::write_water_keys(json, r.model.water);
+  if (r.k_y) postproc::write_seismic_keys(json, r.model, *r.k_y);
   if (!r.model.loads.empty()) json.key("bishop_surcharge_N_m").value(r.surcharge);
   json.key("bodies").begin_array();
   for (int b : r.bodies) json.value(r.model.bodies[b].name);

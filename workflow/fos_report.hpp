@@ -9,6 +9,7 @@
 #include "common/scene/scene.hpp"
 #include "postproc/bishop.hpp"
 #include "postproc/failure_surface.hpp"
+#include "postproc/pseudo_static.hpp"
 #include "solver/strength_reduction.hpp"
 
 namespace talus::workflow {
@@ -32,6 +33,8 @@ struct FosReport {
   const FosSlip* slip;  // null when no trial failed (the failing bound was known beforehand)
   double tolerance, period, search_seconds, equilibrium_seconds;
   int workers;
+  // With [seismic] or [base_motion]: Bishop's yield coefficient (the seismic keys, seismic_json.hpp).
+  const std::optional<postproc::YieldCoefficient>* k_y = nullptr;
 };
 
 std::string fos_json(const FosReport& report);

@@ -201,8 +201,15 @@ int run_pipeline(const std::string& scene_path, const StageOptions& options, std
   const std::string folder = output_folder(options.out, scene);
   const FolderLock lock(folder);
   const fs::path out(folder);
-  const uint64_t mesh_inputs =
-      stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
+  uint64_t mesh_inputs = stamps::hash(scene.canonical_text, stamps::hash_file(scene.geometry, stamps::program()));
+  // A motion record is read from its own file, which the scene's text only names.
+  if (!scene.base_motion.time.empty()) {
+    std::ostringstream record;
+    record.precision(17);
+    for (std::size_t k = 0; k < scene.base_motion.time.size(); ++k)
+      record << scene.base_motion.time[k] << ' ' << scene.base_motion.acceleration[k].transpose() << '\n';
+    mesh_inputs = stamps::hash(record.str(), mesh_inputs);
+  }
   const uint64_t solve_inputs = stamps::hash("solve", mesh_inputs);
   const uint64_t post_inputs = stamps::hash_file(
       postproc::figure_script("animation.py"),

@@ -8,6 +8,7 @@
 #include "common/model/checks.hpp"
 #include "common/model/model_io.hpp"
 #include "common/model/parameters.hpp"
+#include "common/model/seismic_io.hpp"
 
 namespace talus {
 namespace {
@@ -178,6 +179,7 @@ void write_metadata(const h5::File& file, const Model& model) {
   h5::write(file, "settings/contact/pair_bonded", pair_bonded, {pair_bonded.size()});
 
   write_water(file, model.water);
+  write_seismic(file, model.seismic, model.base_motion);
 
   const PostSettings& post = model.post;
   h5::create_group(file, "settings/post");
@@ -283,6 +285,7 @@ void read_metadata(const h5::File& file, Model& model) {
   }
 
   model.water = read_water(file);
+  read_seismic(file, model.seismic, model.base_motion);
 
   PostSettings& post = model.post;
   post.metrics = h5::read_strings(file, "settings/post/metrics");

@@ -7,6 +7,7 @@
 #include "common/h5.hpp"
 #include "common/model/checks.hpp"
 #include "common/model/model_io.hpp"
+#include "common/model/seismic_io.hpp"
 
 namespace talus {
 namespace {
@@ -55,6 +56,8 @@ void write_model(const std::string& path, const Model& model) {
       h5::write(file, "boundary_conditions/friction_coefficients", model.friction_coefficients,
                 {model.friction_coefficients.size()});
     }
+
+    write_absorbing(file, model.absorbing);
 
     const std::size_t n = model.particle_count();
     h5::write(file, "particles/position", flatten(model.position), {n, 2});
@@ -131,6 +134,8 @@ Model read_model(const std::string& path) {
       if (!(std::isfinite(mu) && mu >= 0))
         throw Error(located(path, "boundary_conditions/friction_coefficients", "expected finite numbers >= 0"));
   }
+
+  model.absorbing = read_absorbing(file, static_cast<std::size_t>(node_count));
 
   auto positions = h5::read_doubles(file, "particles/position", &dims);
   const std::size_t n = dims.empty() ? 0 : dims[0];

@@ -87,6 +87,9 @@ struct Model {
   ContactSettings contact;
   PostSettings post;
   WaterSettings water;  // settings/water (absent: no water table)
+  SeismicSettings seismic;  // settings/seismic (absent: off)
+  BaseMotion base_motion;   // settings/base_motion (absent: the ground stays at rest)
+  AbsorbingNodes absorbing;  // boundary_conditions/absorbing_* (absent: none)
 
   std::size_t particle_count() const { return position.size(); }
 };

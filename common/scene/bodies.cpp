@@ -51,7 +51,9 @@ void read_boundaries(TableReader& top, Scene& scene) {
     if (type == "fixed") b.type = BoundaryType::Fixed;
     else if (type == "roller") b.type = BoundaryType::Roller;
     else if (type == "friction") b.type = BoundaryType::Friction;
-    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed, roller or friction)");
+    else if (type == "absorbing") b.type = BoundaryType::Absorbing;
+    else r.fail("type", "unknown boundary type '" + echoed(type) + "' (expected fixed, roller, friction or absorbing)");
+    if (b.type == BoundaryType::Absorbing) read_absorbing(r, scene, b);
     if (b.type == BoundaryType::Friction) b.friction = r.number("friction", std::nullopt, 0, kInf);
     else if (r.has("friction"))
       r.fail("friction", "belongs to type = \"friction\" only (this boundary is " + type + ")");

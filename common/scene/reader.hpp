@@ -95,5 +95,8 @@ void read_contact(TableReader& top, Scene& scene);      // [contact], [[contact.
 void read_post(TableReader& top, Scene& scene);         // [post], after the bodies
 void read_water(TableReader& top, Scene& scene);        // [water] (common/scene/water.cpp)
 void read_random(TableReader& top, Scene& scene);       // [random.NAME], after the materials (common/scene/random.cpp)
+void read_seismic(TableReader& top, Scene& scene);      // [seismic] (common/scene/seismic.cpp)
+void read_base_motion(TableReader& top, Scene& scene);  // [base_motion], after the bodies and boundaries (seismic.cpp)
+void read_absorbing(TableReader& r, const Scene& scene, Boundary& boundary);  // an absorbing boundary's keys (seismic.cpp)
 
 }  // namespace talus::scene_reader

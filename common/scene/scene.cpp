@@ -90,6 +90,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   read_post(top, scene);
   read_water(top, scene);
   read_random(top, scene);
+  read_seismic(top, scene);
+  read_base_motion(top, scene);
   top.finish();
 
   std::ostringstream canonical;

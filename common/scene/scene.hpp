@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/materials/materials.hpp"  // Material
+#include "common/scene/seismic.hpp"
 
 namespace talus {
 
@@ -62,7 +63,7 @@ struct Body {
   std::optional<InitialStress> initial_stress;
 };
 
-enum class BoundaryType { Fixed, Roller, Friction };
+enum class BoundaryType { Fixed, Roller, Friction, Absorbing };
 
 struct Boundary {
   std::string name;   // key of [boundaries.NAME]
@@ -73,6 +74,9 @@ struct Boundary {
   std::optional<Eigen::Vector2d> normal;
   // Friction: Coulomb coefficient (tan of the base friction angle) against the boundary.
   double friction = 0;
+  // Absorbing: the [materials] name whose density and wave speeds give the dashpots'
+  // impedances rho c_p and rho c_s (Lysmer and Kuhlemeyer 1969; docs/seismic.md).
+  std::string material;
 };
 
 // A surface load on a stretch of a body's outline, carried by the particles along it
@@ -238,6 +242,8 @@ struct Scene {
   std::vector<SurfaceLoad> loads;
   std::vector<RandomField> random;  // [random.NAME], in the order of their names
   std::string canonical_text;  // the scene after --set overrides, as TOML (hashed by `talus run`)
+  SeismicSettings seismic;  // [seismic] (seismic.hpp)
+  BaseMotion base_motion;   // [base_motion] (seismic.hpp)
 
   int material_index(const std::string& name) const;  // -1 if absent
   int body_index(const std::string& name) const;      // -1 if absent

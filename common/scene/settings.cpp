@@ -122,12 +122,13 @@ void read_post(TableReader& top, Scene& scene) {
   TableReader post = top.child(top.table("post"), "post");
   PostSettings& ps = scene.post;
   ps.metrics = post.strings("metrics");
-  static const std::vector<std::string> kMetrics{"runout", "failure_surface", "bishop", "spring_mass", "box_incline"};
+  static const std::vector<std::string> kMetrics{"runout",      "failure_surface", "bishop", "spring_mass",
+                                                 "box_incline", "newmark_block"};
   for (const auto& m : ps.metrics)
     if (std::find(kMetrics.begin(), kMetrics.end(), m) == kMetrics.end()) {
       const std::string suggestion = nearest(m, kMetrics);
       post.fail("metrics", "unknown metric '" + echoed(m) + "'" +
-                               (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass or box_incline)"
+                               (suggestion.empty() ? " (expected runout, failure_surface, bishop, spring_mass, box_incline or newmark_block)"
                                                    : " (did you mean '" + suggestion + "'?)"));
     }
   const bool body_given = post.has("body");

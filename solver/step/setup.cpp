@@ -119,6 +119,9 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   config.initial_volume = model.volume;
   for (const auto& load : model.loads) config.load_ramp.push_back(load.ramp);
   config.water = model.water;
+  config.base_motion = model.base_motion;
+  config.ground_moves = model.base_motion.enabled() && !model.base_motion.compliant;
+  config.absorbing = model.absorbing;
   prepare_materials(config, model);
   for (const auto& body : model.bodies) {
     config.material_of_body.push_back(body.material);

@@ -45,6 +45,13 @@ struct Config {
   std::vector<double> load_ramp;
 
   int threads = 1;  // every parallel region runs this many threads (parallel.hpp)
+
+  // [base_motion]: the ground's acceleration; on a rigid base the model is solved in the ground's
+  // frame, so every particle feels -a_g(t) besides gravity (ground_moves; common/scene/seismic.hpp),
+  // on a compliant base the absorbing boundaries put the motion in. Off: no cost in the step.
+  BaseMotion base_motion;
+  bool ground_moves = false;
+  AbsorbingNodes absorbing;  // dashpots (solver/boundary/absorbing.hpp); empty: none
 };
 
 // Wall time per phase of step(), summed over the steps: opt-in (Scratch::phase_times, set by
@@ -115,10 +122,12 @@ void set_threads(Simulation& sim, int threads);
 // stencil rows in the new order.
 void sort_particles(Simulation& sim);
 
-// Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp.
+// Gravity at time t, with the smooth ramp of RunSettings::gravity_ramp; with a moving ground, less
+// the ground's acceleration (the body force of the ground's frame).
 inline Vec2 gravity_at(const Config& config, double t) {
-  if (t >= config.gravity_ramp) return config.gravity;
-  return ramp_factor(t, config.gravity_ramp) * config.gravity;
+  Vec2 g = t >= config.gravity_ramp ? config.gravity : Vec2(ramp_factor(t, config.gravity_ramp) * config.gravity);
+  if (config.ground_moves) g -= config.base_motion.ground_acceleration(t);
+  return g;
 }
 
 

@@ -6,6 +6,7 @@
 
 #include <chrono>
 
+#include "solver/boundary/absorbing.hpp"
 #include "solver/contact/contact.hpp"
 #include "solver/interpolation/interpolation.hpp"
 #include "solver/parallel/domain.hpp"
@@ -65,6 +66,7 @@ bool step(Simulation& sim, double dt) {
 
   // (A.9): a_i = f_i / m_i, constrained by the boundary conditions; contact corrects it.
   update_grid_accelerations(c.constraints, c.field_fixed, c.damping, dt, s.grids, threads);
+  if (!c.absorbing.empty()) apply_dashpots(c.absorbing, c.base_motion, sim.time, dt, s.grids);  // absorbing.hpp
   clock.lap(PhaseTimes::GridAcceleration);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.

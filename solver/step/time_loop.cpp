@@ -76,6 +76,20 @@ double energy_budget(const Simulation& sim, const Energies& start) {
     for (const auto& x : sim.config.mesh.nodes) box.extend(x);
     for (std::size_t p = 0; p < P.moving_count; ++p) release += P.load_force[p].norm() * box.diagonal().norm();
   }
+  // A moving ground: its inertial force over at most the mesh's width (one of the ground's frame).
+  if (sim.config.ground_moves) {
+    Eigen::AlignedBox<double, 2> box;
+    for (const auto& x : sim.config.mesh.nodes) box.extend(x);
+    const double work = sim.config.base_motion.peak_acceleration() * box.diagonal().norm();
+    for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * work;
+  }
+  // A compliant base: the outcrop motion's kinetic energy, taken 100 times over (resonance).
+  if (sim.config.base_motion.compliant && !sim.config.absorbing.empty()) {
+    const BaseMotion& m = sim.config.base_motion;
+    double peak = 0;
+    for (int k = 0; k <= 1000; ++k) peak = std::max(peak, m.ground_velocity(m.start + k * m.duration() / 1000).norm());
+    for (std::size_t p = 0; p < P.moving_count; ++p) release += 50 * P.m[p] * peak * peak;
+  }
   if (sim.domain.distributed()) release = mpi::sum_in_rank_order(release);
   return start.kinetic + start.strain + release;
 }
