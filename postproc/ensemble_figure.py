@@ -77,14 +77,12 @@ def reach_figure(summary, out):
     base = min(ground[:, 1].min(), y.min())
     bottom.fill_between(ground[:, 0], base, ground[:, 1], color="0.85", label="slope (initial)")
     points = bottom.scatter(x, y, c=p, cmap="Reds", vmin=0, vmax=1, s=14, zorder=3)
-    fig.colorbar(points, ax=bottom, label="P(reached)")
+    fig.colorbar(points, ax=[top, bottom], label="P(reached)")  # on both, so that their x scales match
     bottom.plot(*summary["toe_m"], "kv", label="toe")
     bottom.set_xlabel("x (m)")
     bottom.set_ylabel("y (m)")
-    bottom.set_aspect("equal", adjustable="datalim")
     bottom.legend(fontsize=8, loc="upper right")
     top.set_title("reach: the ground between the failure's crown and the deposit's tip")
-    fig.tight_layout()
     fig.savefig(os.path.join(out, "ensemble_reach.png"), dpi=130)
     plt.close(fig)
 

@@ -229,8 +229,10 @@ TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
   const std::string fos_json = read_text(dir.file("fos/fos.json"));
   const double F = json_number(fos_json, "factor_of_safety");
   ASSERT_TRUE(F > 0.9 && F < 1.5) << F;  // the scene is meant to be near failure
-  // phi = 0: F = c_u / c_crit, so the bracket of F is one of c_crit.
-  const double c_low = mean / json_number(fos_json, "upper"), c_high = mean / json_number(fos_json, "lower");
+  // phi = 0: F = c_u / c_crit, so the bracket of F is one of c_crit; widened by the bracket's
+  // tolerance (0.01), since the ensemble's ramped runs and fos's damped trials find c_crit each to
+  // about that (docs/ensemble.md: 2 of 400 realisations failed 0.1 % above the bracket).
+  const double c_low = mean / json_number(fos_json, "upper") / 1.01, c_high = mean / json_number(fos_json, "lower") * 1.01;
 
   const long n = 40;
   const auto run = run_talus("ensemble " + scene + sets + " --realisations " + std::to_string(n) +
@@ -250,7 +252,7 @@ TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
   EXPECT_LE(exact, upper);
 
   // Realisation by realisation: each is one c_u (mean_undrained), and it fails exactly when c_u
-  // is below c_crit, outside the bracket of `fos`.
+  // is below c_crit, outside the (widened) bracket of `fos`.
   std::istringstream csv(read_text(dir.file("ensemble/realisations.csv")));
   std::string line;
   std::getline(csv, line);
@@ -270,5 +272,5 @@ TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
     EXPECT_EQ(failed, c_u < c_low) << "c_u = " << c_u << ", c_crit in " << c_low << " .. " << c_high;
   }
   EXPECT_EQ(rows, n);
-  EXPECT_GE(outside, n - 2);
+  EXPECT_GE(outside, n - 4);
 }

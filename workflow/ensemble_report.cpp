@@ -159,7 +159,13 @@ std::string ensemble_json(const EnsembleModel& ensemble, const EnsembleRun& run,
   std::vector<double> runout;
   for (const auto& row : solved) runout.push_back(row.runout);
   const postproc::Mirror& mirror = ensemble.slope.mirror;
-  const postproc::Polyline ground = mirror.polyline(ensemble.slope.profile.surface);
+  // The ground: the slope's surface, and beyond its toe the level of its lowest point out to the
+  // domain's end (where the debris runs out); scene frame, x increasing.
+  postproc::Polyline ground = ensemble.slope.profile.surface;
+  double far = ground.back().x();
+  for (const auto& node : ensemble.model.nodes) far = std::max(far, mirror.x(node.x()));
+  if (far > ground.back().x()) ground.emplace_back(far, ground.back().y());
+  ground = mirror.polyline(ground);
 
   postproc::JsonWriter json;
   json.begin_object();
@@ -201,7 +207,7 @@ std::string ensemble_json(const EnsembleModel& ensemble, const EnsembleRun& run,
     const Curve along = reach(solved, evenly(ground.front().x(), ground.back().x(), 201));
     json.key("reach").begin_object();
     json.key("rule").value("the fraction of realisations in which the point lies between the failure's crown and the "
-                           "deposit's tip");
+                           "deposit's tip, along the slope's surface and beyond its toe to the domain's end");
     json.key("ground_y_m").begin_array();
     for (double x : along.at) json.value(postproc::surface_height(ensemble.slope.profile.surface, mirror.x(x)));
     json.end_array();
