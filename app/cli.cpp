@@ -82,6 +82,17 @@ Arguments parse(int argc, char** argv) {
     } else if (name == "--ratio") {
       args.ratio = number_of(i, name, -std::numeric_limits<double>::max(), false,
                              std::numeric_limits<double>::infinity(), "a number > 1");
+    } else if (name == "--realisations") {
+      std::string text;
+      args.realisations = integer_of(i, name, text);
+      if (*args.realisations < 1) throw Error("--realisations: expected a positive integer, got '" + text + "'");
+    } else if (name == "--seed") {
+      args.seed = value_of(i, name);
+    } else if (name == "--jobs") {
+      std::string text;
+      args.jobs = integer_of(i, name, text);
+      if (*args.jobs < 1 || *args.jobs > solver::thread_cap())
+        throw Error("--jobs: expected an integer from 1 to " + std::to_string(solver::thread_cap()) + ", got '" + text + "'");
     } else if (word == "--restart") args.restart = true;
     else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
     else if (args.command.empty()) args.command = word;

@@ -24,6 +24,9 @@ struct Arguments {
   std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)
   std::optional<int> levels;                  // --levels N (converge)
   std::optional<double> ratio;                // --ratio R (converge)
+  std::optional<long> realisations;           // --realisations N (ensemble)
+  std::optional<std::string> seed;            // --seed S (ensemble; checked there)
+  std::optional<int> jobs;                    // --jobs J (ensemble)
   std::vector<std::string> flags;      // other --name[=value] options, for subcommands
 };
 

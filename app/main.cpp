@@ -15,6 +15,7 @@
 #include "solver/parallel/parallel.hpp"
 #include "solver/solver.hpp"
 #include "workflow/converge.hpp"
+#include "workflow/ensemble.hpp"
 #include "workflow/folder_lock.hpp"
 #include "workflow/fos.hpp"
 #include "workflow/launch.hpp"
@@ -53,6 +54,16 @@ Usage:
         (default DIR: out/<scene name>/converge); each metric with its observed order
         and grid convergence index: DIR/converge.csv, converge.md, converge.png
         (docs/converge.md).
+  talus ensemble SCENE.toml [--realisations N] [--seed S] [--jobs J]
+              [--set KEY=VALUE]... [--out DIR]
+        Probabilistic runout over the scene's [random] fields: meshes once, then
+        realisation k (of N, default 100) draws its fields from seed S + k (default
+        S = 1), solves and measures them; J realisations at once, one thread each
+        (default one per core). Ctrl-C stops; the same command again resumes with
+        the same answer. DIR/realisations.csv, ensemble.json (probability of
+        failure with its 95 % interval, runout quantiles, exceedance curve, reach
+        along the ground) and figures (default DIR: out/<scene name>/ensemble;
+        docs/ensemble.md).
 
 Options:
   --set KEY=VALUE   override a scene value by its dotted TOML path, e.g.
@@ -130,6 +141,32 @@ workflow::FosOptions fos_options(const cli::Arguments& args) {
 }
 
 // The options a stage does not know are mistakes, not silently ignored.
+// `talus ensemble`'s options; the others are mistakes here.
+workflow::EnsembleOptions ensemble_options(const cli::Arguments& args) {
+  if (args.positional.size() != 1) throw Error("ensemble: expected one scene file (see talus --help)");
+  if (!args.flags.empty()) throw Error("ensemble: unknown option '" + args.flags.front() + "' (see talus --help)");
+  if (args.threads) throw Error("--threads belongs to solve, run, fos and converge: ensemble runs each realisation on one thread, --jobs at once");
+  if (args.ranks) throw Error("--ranks belongs to solve or run: ensemble runs on one machine (--jobs)");
+  if (args.restart || args.checkpoint_interval)
+    throw Error("--checkpoint-interval and --restart belong to solve or run: ensemble resumes by itself when run again");
+  if (args.tolerance || args.levels || args.ratio) throw Error("--tolerance, --levels and --ratio do not belong to ensemble");
+  workflow::EnsembleOptions options;
+  options.scene_path = args.positional.front();
+  options.overrides = args.overrides;
+  options.out = args.out;
+  options.quiet = args.quiet;
+  if (args.realisations) options.realisations = *args.realisations;
+  if (args.jobs) options.jobs = *args.jobs;
+  if (args.seed) {
+    const std::string& text = *args.seed;
+    const bool digits = !text.empty() && text.size() <= 16 && text.find_first_not_of("0123456789") == std::string::npos;
+    if (!digits || std::stoull(text) > workflow::kMaxSeed)
+      throw Error("--seed: expected an integer from 0 to " + std::to_string(workflow::kMaxSeed) + ", got '" + text + "'");
+    options.seed = std::stoull(text);
+  }
+  return options;
+}
+
 void reject_unknown_options(const cli::Arguments& args, bool solves) {
   if (!args.flags.empty())
     throw Error("unknown option '" + args.flags.front() + "' for talus " + args.command + " (see talus --help)");
@@ -159,6 +196,8 @@ int run_command(const cli::Arguments& args) {
   if (solver::mpi::distributed() && args.command != "solve")
     throw SharedError("under mpirun only `talus solve MODEL.h5` runs (on every rank); for the pipeline on several "
                       "ranks use `talus run SCENE --ranks N` (see talus --help)");
+  if (args.command != "ensemble" && (args.realisations || args.seed || args.jobs))
+    throw Error("--realisations, --seed and --jobs belong to ensemble, not " + args.command);
   if (args.command == "mesh" || args.command == "solve" || args.command == "post" || args.command == "run")
     reject_unknown_options(args, args.command == "solve" || args.command == "run");
   if (args.command == "mesh") {
@@ -180,12 +219,13 @@ int run_command(const cli::Arguments& args) {
     if (args.levels || args.ratio) throw Error("--levels and --ratio belong to converge, not fos");
     return workflow::run_fos(fos_options(args), std::cout);
   }
+  if (args.command == "ensemble") return workflow::run_ensemble(ensemble_options(args), std::cout);
   if (args.command == "converge") return workflow::run_converge(converge_options(args), std::cout);
   if (args.command == "run") {
     const std::string scene_path = args.positional.empty() ? "geometries/slope.toml" : require_input(args, "scene");
     return workflow::run_pipeline(scene_path, stage_options(args), std::cout);
   }
-  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post, run, fos or converge; see talus --help)");
+  throw Error("unknown command '" + args.command + "' (expected mesh, solve, post, run, fos, converge or ensemble; see talus --help)");
 }
 
 // One message for the whole run: with several ranks, an error every rank meets alike
