@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <numeric>
 #include <type_traits>
 
@@ -24,14 +25,34 @@ struct SilenceHdf5 {
 };
 const SilenceHdf5 silence_hdf5;
 
+// Whether HDF5's error stack holds a failed allocation (major H5E_RESOURCE): memory ran out
+// inside the library, which the caller reports as out of memory (std::bad_alloc), not as a
+// file error.
+herr_t find_resource_error(unsigned, const H5E_error2_t* error, void* found) {
+  if (error->maj_num == H5E_RESOURCE) *static_cast<bool*>(found) = true;
+  return 0;
+}
+
 [[noreturn]] void fail(const File& file, const std::string& item, const std::string& message) {
-  throw Error(located(file.path(), item, message));
+  throw_failure(located(file.path(), item, message));
 }
 
 hid_t check(hid_t id, const File& file, const std::string& item, const char* what) {
   if (id < 0) fail(file, item, what);
   return id;
 }
+
+}  // namespace
+
+void throw_failure(const std::string& message) {
+  bool out_of_memory = false;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, find_resource_error, &out_of_memory);
+  H5Eclear2(H5E_DEFAULT);
+  if (out_of_memory) throw std::bad_alloc();
+  throw Error(message);
+}
+
+namespace {
 
 std::string root_relative(const std::string& path) { return path.empty() ? "/" : path; }
 

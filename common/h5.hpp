@@ -12,6 +12,10 @@
 
 namespace talus::h5 {
 
+// Throws std::bad_alloc when the HDF5 call that just failed ran out of memory (its error stack
+// says so), else talus::Error(message). Clears the stack.
+[[noreturn]] void throw_failure(const std::string& message);
+
 using Dims = std::vector<hsize_t>;
 
 // Owns one HDF5 identifier and closes it with the right function.

@@ -27,7 +27,7 @@ Appendable::Appendable(const File& file, const std::string& path, const Dims& re
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
   H5Pset_create_intermediate_group(lcpl.id(), 1);
   dataset_ = Handle(H5Dcreate2(file.id(), path.c_str(), type, space.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT));
-  if (!dataset_.valid()) throw Error(where_ + ": cannot create appendable dataset");
+  if (!dataset_.valid()) throw_failure(where_ + ": cannot create appendable dataset");
 }
 
 void Appendable::append(const void* records, hsize_t rows) {
@@ -57,14 +57,14 @@ void Appendable::write_block(const Dims& start, const Dims& count, const void* d
   Handle file_space(H5Dget_space(dataset_.id()));
   const Handle memory_space = select_block(file_space.id(), start, count);
   if (H5Dwrite(dataset_.id(), type_, memory_space.id(), file_space.id(), H5P_DEFAULT, data) < 0)
-    throw Error(where_ + ": cannot write record");
+    throw_failure(where_ + ": cannot write record");
 }
 
 void Appendable::extend(hsize_t rows) {
   if (rows == 0) return;
   Dims dims{count_ + rows};
   dims.insert(dims.end(), record_.begin(), record_.end());
-  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw Error(where_ + ": cannot extend dataset");
+  if (H5Dset_extent(dataset_.id(), dims.data()) < 0) throw_failure(where_ + ": cannot extend dataset");
   count_ += rows;
 }
 

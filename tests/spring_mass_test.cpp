@@ -80,7 +80,9 @@ SpringRun run_spring_mass(const std::string& options) {
   const std::string json = text.str();
   const auto key = json.find("\"max_error_over_amplitude\":");
   EXPECT_NE(key, std::string::npos) << json;
-  if (key != std::string::npos) EXPECT_NEAR(std::stod(json.substr(key + 27)), result.worst / amplitude, 1e-6);
+  if (key != std::string::npos) {
+    EXPECT_NEAR(std::stod(json.substr(key + 27)), result.worst / amplitude, 1e-6);
+  }
   return result;
 }
 
