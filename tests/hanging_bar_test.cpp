@@ -13,9 +13,8 @@
 //
 // Measured (docs/shape-functions.md): quadratic B-splines settle within 0.01 % of it whether
 // the end moves 0.6 or 1.2 cells; linear triangles are exact only while the particles stay in
-// their cells (0.1 cell: 0.05 %) and settle 24 % (crossed) too far at 1.2 cells, the cell-crossing
-// error the smooth family cures (and some of its surface particles come loose, the
-// isolated-particle rule of solver/stress/stress.hpp).
+// their cells (0.1 cell: 0.02 %) and settle tens of percent too far at 1.2 cells, the
+// cell-crossing error the smooth family cures.
 #include <gtest/gtest.h>
 
 #include <cmath>
