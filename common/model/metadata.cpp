@@ -43,20 +43,22 @@ void read_setting(const h5::File& file, const std::string& group, const char* na
 void read_setting(const h5::File& file, const std::string& group, const char* name, bool& value) {
   value = h5::get_int(file, group, name) != 0;
 }
-void read_setting(const h5::File& file, const std::string& group, const char* name, Transfer& value) {
+// A setting stored by its name (the transfer, the shape functions): `from_name` maps it back.
+template <class Named, class FromName>
+void read_named(const h5::File& file, const std::string& group, const char* name, Named& value, FromName from_name,
+                const char* what, const char* expected) {
   const std::string text = h5::get_string(file, group, name);
-  const auto transfer = transfer_from_name(text);
-  if (!transfer)
+  const auto named = from_name(text);
+  if (!named)
     throw Error(located(file.path(), group + "@" + name,
-                        "unknown transfer '" + text + "' (expected flip, pic_blend, xpic or apic)"));
-  value = *transfer;
+                        std::string("unknown ") + what + " '" + text + "' (expected " + expected + ")"));
+  value = *named;
+}
+void read_setting(const h5::File& file, const std::string& group, const char* name, Transfer& value) {
+  read_named(file, group, name, value, transfer_from_name, "transfer", "flip, pic_blend, xpic or apic");
 }
 void read_setting(const h5::File& file, const std::string& group, const char* name, ShapeFunctions& value) {
-  const std::string text = h5::get_string(file, group, name);
-  const auto family = shape_functions_from_name(text);
-  if (!family)
-    throw Error(located(file.path(), group + "@" + name, "unknown shape functions '" + text + "' (expected linear or bspline)"));
-  value = *family;
+  read_named(file, group, name, value, shape_functions_from_name, "shape functions", "linear or bspline");
 }
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {
