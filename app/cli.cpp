@@ -82,6 +82,8 @@ Arguments parse(int argc, char** argv) {
     } else if (name == "--ratio") {
       args.ratio = number_of(i, name, -std::numeric_limits<double>::max(), false,
                              std::numeric_limits<double>::infinity(), "a number > 1");
+    } else if (name == "--transfers") {
+      args.transfers = value_of(i, name);
     } else if (name == "--realisations") {
       std::string text;
       args.realisations = integer_of(i, name, text);

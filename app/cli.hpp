@@ -24,6 +24,7 @@ struct Arguments {
   std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)
   std::optional<int> levels;                  // --levels N (converge)
   std::optional<double> ratio;                // --ratio R (converge)
+  std::optional<std::string> transfers;       // --transfers LIST (converge)
   std::optional<long> realisations;           // --realisations N (ensemble)
   std::optional<std::string> seed;            // --seed S (ensemble; checked there)
   std::optional<int> jobs;                    // --jobs J (ensemble)

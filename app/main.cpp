@@ -8,6 +8,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <sstream>
 
 #include "app/cli.hpp"
 #include "common/error.hpp"
@@ -48,12 +49,13 @@ Usage:
         Factor of safety by shear strength reduction (trials on N threads, bracket
         width DF, default 0.01): DIR/fos.json and fos.png (docs/fos.md).
   talus converge SCENE.toml [--levels N] [--ratio R] [--set KEY=VALUE]... [--out DIR]
-              [--threads N]
+              [--threads N] [--transfers LIST]
         Mesh convergence: the scene run at mesh.size h0, h0/R, ... (N levels, default
         3, in [2, 6]; R > 1, default 2; h0 the scene's size) in DIR/level<k>_h<size>
         (default DIR: out/<scene name>/converge); each metric with its observed order
         and grid convergence index: DIR/converge.csv, converge.md, converge.png
-        (docs/converge.md).
+        (docs/converge.md). --transfers flip,apic,xpic also runs the finest level with
+        each transfer (xpic: order 5) and reports their spread beside the band.
   talus ensemble SCENE.toml [--realisations N] [--seed S] [--jobs J]
               [--set KEY=VALUE]... [--out DIR]
         Probabilistic runout over the scene's [random] fields: meshes once, then
@@ -131,6 +133,14 @@ workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
   if (args.tolerance) throw Error("--tolerance belongs to fos, not converge");
   if (args.levels) options.levels = *args.levels;
   if (args.ratio) options.ratio = *args.ratio;
+  if (args.transfers) {
+    std::stringstream list(*args.transfers);
+    for (std::string name; std::getline(list, name, ',');) {
+      workflow::transfer_overrides(name);  // an unknown name stops here, before anything runs
+      options.transfers.push_back(name);
+    }
+    if (options.transfers.empty()) throw Error("--transfers: expected a comma-separated list such as flip,apic,xpic");
+  }
   return options;
 }
 
@@ -149,7 +159,8 @@ workflow::EnsembleOptions ensemble_options(const cli::Arguments& args) {
   if (args.ranks) throw Error("--ranks belongs to solve or run: ensemble runs on one machine (--jobs)");
   if (args.restart || args.checkpoint_interval)
     throw Error("--checkpoint-interval and --restart belong to solve or run: ensemble resumes by itself when run again");
-  if (args.tolerance || args.levels || args.ratio) throw Error("--tolerance, --levels and --ratio do not belong to ensemble");
+  if (args.tolerance || args.levels || args.ratio || args.transfers)
+    throw Error("--tolerance, --levels, --ratio and --transfers do not belong to ensemble");
   workflow::EnsembleOptions options;
   options.scene_path = args.positional.front();
   options.overrides = args.overrides;
@@ -174,7 +185,8 @@ void reject_unknown_options(const cli::Arguments& args, bool solves) {
     throw Error("--checkpoint-interval and --restart belong to solve or run, not " + args.command);
   if (!solves && args.ranks) throw Error("--ranks belongs to solve or run, not " + args.command);
   if (args.tolerance) throw Error("--tolerance belongs to fos, not " + args.command);
-  if (args.levels || args.ratio) throw Error("--levels and --ratio belong to converge, not " + args.command);
+  if (args.levels || args.ratio || args.transfers)
+    throw Error("--levels, --ratio and --transfers belong to converge, not " + args.command);
 }
 
 int run_command(const cli::Arguments& args) {
@@ -216,7 +228,8 @@ int run_command(const cli::Arguments& args) {
     return workflow::post_stage(results_path, stage_options(args), std::cout);
   }
   if (args.command == "fos") {
-    if (args.levels || args.ratio) throw Error("--levels and --ratio belong to converge, not fos");
+    if (args.levels || args.ratio || args.transfers)
+      throw Error("--levels, --ratio and --transfers belong to converge, not fos");
     return workflow::run_fos(fos_options(args), std::cout);
   }
   if (args.command == "ensemble") return workflow::run_ensemble(ensemble_options(args), std::cout);

@@ -2,7 +2,7 @@
 
     /usr/bin/python3 bench/plot_benchmarks.py accuracy OUT_DIR    bench_accuracy_*.png
     /usr/bin/python3 bench/plot_benchmarks.py stability OUT_DIR   bench_stability_energy.png
-    /usr/bin/python3 bench/plot_benchmarks.py runout OUT_DIR      bench_runout_column.png
+    /usr/bin/python3 bench/plot_benchmarks.py runout OUT_DIR      bench_runout_column.png, bench_runout_rods.png
 
 Needs Debian's python3-matplotlib (hence /usr/bin/python3). A missing CSV is skipped.
 """
@@ -38,6 +38,8 @@ def read_column_csv(path):
         row["runout_ratio"] = float(row["runout_ratio"]) if row["runout_ratio"] else ""
         post = row.get("post_runout_ratio") or ""  # absent in files written before it
         row["post_runout_ratio"] = float(post) if post else ""
+        height = row.get("height_ratio") or ""  # absent in files written before it
+        row["height_ratio"] = float(height) if height else ""
     return rows
 
 
@@ -152,6 +154,43 @@ def plot_column(rows, path):
     plt.close(fig)
 
 
+def plot_rods(rows, path):
+    """The aluminium rods: runout and final height against a, with Nguyen et al. (2015)'s laws."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
+    low = [0.65 + k * 0.85 / 20 for k in range(21)]
+    high = [1.5 + k * 4.5 / 40 for k in range(41)]
+    left.plot(low, [3.25 * a ** 0.96 for a in low], "k-", lw=1.2, label="3.25 a^0.96 (0.65 < a < 1.5)")
+    left.plot(high, [3.80 * a ** 0.73 for a in high], "k--", lw=1.2, label="3.80 a^0.73 (a > 1.5)")
+    band = low + high
+    right.plot(band, [1.42 * a ** (2 / 3) for a in band], "k-", lw=1.2, label="1.42 a^(2/3)")
+    for k, name in enumerate(sorted({r["transfer"] for r in rows})):
+        colour = "C%d" % k
+        mine = [r for r in rows if r["transfer"] == name and r["runout_ratio"] != ""]
+        post = [r for r in rows if r["transfer"] == name and r["post_runout_ratio"] != ""]
+        if mine:
+            left.plot([r["aspect_ratio"] for r in mine], [r["runout_ratio"] for r in mine], "o-", ms=5, lw=0.8,
+                      color=colour, label=name + " (deposit tip)")
+        if post:
+            left.plot([r["aspect_ratio"] for r in post], [r["post_runout_ratio"] for r in post], "s--", ms=5,
+                      lw=0.8, color=colour, markerfacecolor="none", label=name + " (talus post)")
+        height = [r for r in rows if r["transfer"] == name and r["height_ratio"] != ""]
+        if height:
+            right.plot([r["aspect_ratio"] for r in height], [r["height_ratio"] for r in height], "o-", ms=5,
+                       lw=0.8, color=colour, label=name)
+    for ax, label in ((left, "(d - d0) / d0"), (right, "h0 / h")):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("aspect ratio a = h0 / d0")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    left.set_title("Aluminium rods: runout (Nguyen et al. 2015)", fontsize=10)
+    right.set_title("Aluminium rods: final height", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 3 or sys.argv[1] not in ("accuracy", "stability", "runout"):
         print(__doc__, file=sys.stderr)
@@ -175,6 +214,10 @@ def main():
         if os.path.exists(source) and read_column_csv(source):
             written.append(os.path.join(out, "bench_runout_column.png"))
             plot_column(read_column_csv(source), written[-1])
+        source = os.path.join(out, "runout_rods.csv")
+        if os.path.exists(source) and read_column_csv(source):
+            written.append(os.path.join(out, "bench_runout_rods.png"))
+            plot_rods(read_column_csv(source), written[-1])
     else:
         source = os.path.join(out, "stability_energy.csv")
         if os.path.exists(source):

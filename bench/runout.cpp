@@ -1,9 +1,11 @@
 // Runout benchmark (docs/column.md, docs/transfer.md): each velocity transfer on the column
-// collapse against Lube et al. (2005), on the slope at several element sizes, and on a freely
+// collapse against Lube et al. (2005), on the aluminium rods' collapse against Nguyen et al.
+// (2015), on the slope at several element sizes, and on a freely
 // vibrating elastic cantilever (energy lost per period). Every run is in-process.
 //
 //   talus_bench_runout                                 all three parts, the default transfers
 //   talus_bench_runout --only column --aspect 0.5,1,3,6 --transfers xpic2
+//   talus_bench_runout --only rods --transfers flip,apic --set run.shape_functions=bspline
 //   talus_bench_runout --only slope --sizes 0.5,0.25,0.125
 //
 // Writes runout_column.csv, runout_slope.csv, runout_vibration.csv, runout.md and
@@ -55,10 +57,11 @@ TransferChoice transfer_choice(const std::string& name) {
 }
 
 struct Options {
-  std::vector<std::string> parts = {"column", "slope", "vibration"};
+  std::vector<std::string> parts = {"column", "rods", "slope", "vibration"};
   // apic needs the B-spline family: --set run.shape_functions=bspline --set mesh.pattern=grid.
   std::vector<std::string> transfers = {"flip", "pic_blend", "xpic2", "xpic5"};
   std::vector<double> aspect = {0.5, 3};
+  std::vector<double> rods_aspect = {1, 2, 4};
   std::vector<double> sizes = {0.5, 0.25};
   std::vector<std::string> overrides;  // --set, for every column and slope run
   std::string out = "out/bench";
@@ -92,39 +95,75 @@ std::optional<double> post_runout(const bench::Scratch& scratch) {
   return bench::json_number(json.str(), "runout_distance_m");
 }
 
-void run_column(const Options& options, std::ostringstream& md) {
+// Nguyen, Bui et al. (2015), "Failure mechanism of true 2D granular flows" (arXiv:1512.05180),
+// collapses of aluminium rods: (d - d0)/d0 = 3.25 a^0.96 for 0.65 < a < 1.5, 3.80 a^0.73 above;
+// no value below 0.65.
+std::optional<double> rods_runout(double a) {
+  if (a <= 0.65) return std::nullopt;
+  return a < 1.5 ? 3.25 * std::pow(a, 0.96) : 3.80 * std::pow(a, 0.73);
+}
+// Their final height, h0/h = 1.42 a^(2/3) (h0 the column's height, h the deposit's); a column that
+// does not lose height (h0/h = 1) has no value.
+std::optional<double> rods_height(double a) {
+  const double ratio = 1.42 * std::pow(a, 2.0 / 3.0);
+  if (ratio <= 1) return std::nullopt;
+  return ratio;
+}
+// Lube et al. (2005): the top of the deposit stays at H0 below a = 1.15 (h0/h = 1).
+std::optional<double> lube_height(double a) {
+  if (a < 1.15) return 1.0;
+  return std::nullopt;
+}
+
+// A column-collapse scene and the laws it is compared with.
+struct ColumnCase {
+  std::string part;   // the --only name and the CSV's suffix
+  std::string scene;  // geometries/<scene>.toml
+  std::string title;
+  std::string law_name;
+  std::function<std::optional<double>(double)> runout_law, height_law;
+};
+
+std::string percent(double value, double reference) { return fixed(100 * (value / reference - 1), 1) + "%"; }
+
+void run_column(const Options& options, const ColumnCase& c, const std::vector<double>& aspects,
+                std::ostringstream& md) {
   std::vector<std::vector<std::string>> rows;
-  md << "## Column collapse (geometries/column_collapse.toml";
+  md << "## " << c.title << " (geometries/" << c.scene << ".toml";
   for (const auto& o : options.overrides) md << ", " << o;
   md << ")\n\n"
-     << "| transfer | a | L0 (m) | particles | steps | wall (s) | (L_inf - L0)/L0 | Lube | error | H_inf / H0 | "
-        "detached | talus post | error | outcome |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+     << "| transfer | a | L0 (m) | particles | steps | wall (s) | (L_inf - L0)/L0 | " << c.law_name
+     << " | error | H0 / H_inf | " << c.law_name << " | error | detached | talus post | error | outcome |\n"
+     << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const auto& name : options.transfers) {
     const TransferChoice t = transfer_choice(name);
-    for (double a : options.aspect) {
+    for (double a : aspects) {
       const double L0 = column_length(a), H0 = a * L0;
       std::vector<std::string> overrides = t.overrides;
       overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
       overrides.push_back("mesh.parameters.a=" + general(a, 6));
       overrides.push_back("mesh.parameters.L0=" + general(L0, 6));
-      std::fprintf(stderr, "column %s a = %g ...", name.c_str(), a);
-      bench::Scratch scratch("column");
-      std::string outcome = "at rest", ratio = "", error = "", height = "", detached = "", post = "", post_error = "";
+      std::fprintf(stderr, "%s %s a = %g ...", c.part.c_str(), name.c_str(), a);
+      bench::Scratch scratch(c.part);
+      std::string outcome = "at rest", ratio = "", error = "", height = "", height_error = "", detached = "",
+                  post = "", post_error = "";
+      const auto law = c.runout_law(a);
+      const auto height_law = c.height_law(a);
       bench::TimedRun run;
       try {
-        run = bench::run_scene(bench::scene_path("column_collapse"), overrides, scratch.path().string(),
-                               options.threads);
+        run = bench::run_scene(bench::scene_path(c.scene), overrides, scratch.path().string(), options.threads);
         if (!run.summary.stopped_at_rest) outcome = "not at rest by end_time";
         const auto deposit = testing::column_deposit(last_frame(scratch.file("results.h5")), 0.005);
         const double r = (deposit.tip - L0) / L0;
         ratio = fixed(r, 3);
-        if (const auto law = testing::lube_runout(a)) error = fixed(100 * (r / *law - 1), 1) + "%";
-        height = fixed(deposit.height / H0, 3);
+        if (law) error = percent(r, *law);
+        height = fixed(H0 / deposit.height, 3);
+        if (height_law) height_error = percent(H0 / deposit.height, *height_law);
         detached = std::to_string(deposit.detached);
         try {  // from the released face's foot, x = L0; a failed post leaves the run's own outcome
           if (const auto runout = post_runout(scratch)) {
             post = fixed(*runout / L0, 3);
-            if (const auto law = testing::lube_runout(a)) post_error = fixed(100 * (*runout / L0 / *law - 1), 1) + "%";
+            if (law) post_error = percent(*runout / L0, *law);
           }
         } catch (const Error& e) {
           post = std::string("failed: ") + e.what();
@@ -132,28 +171,33 @@ void run_column(const Options& options, std::ostringstream& md) {
       } catch (const Error& e) {
         outcome = e.what();
       }
-      const auto law = testing::lube_runout(a);
       std::fprintf(stderr, " %s %s\n", ratio.c_str(), outcome.c_str());
       rows.push_back({name, general(a, 4), general(L0, 4), std::to_string(run.summary.particles),
                       std::to_string(run.summary.steps), fixed(run.wall_seconds, 1), ratio,
-                      law ? fixed(*law, 3) : "", error, height, detached, post, post_error, outcome});
+                      law ? fixed(*law, 3) : "", error, height, height_law ? fixed(*height_law, 3) : "",
+                      height_error, detached, post, post_error, outcome});
       md << "| " << rows.back()[0];
       for (std::size_t k = 1; k < rows.back().size(); ++k) md << " | " << rows.back()[k];
       md << " |\n";
     }
   }
-  std::ofstream csv((std::filesystem::path(options.out) / "runout_column.csv").string());
-  csv << "transfer,aspect_ratio,L0_m,particles,steps,wall_s,runout_ratio,lube,error,height_ratio,detached,"
-         "post_runout_ratio,post_error,outcome\n";
+  std::ofstream csv((std::filesystem::path(options.out) / ("runout_" + c.part + ".csv")).string());
+  csv << "transfer,aspect_ratio,L0_m,particles,steps,wall_s,runout_ratio,law,error,height_ratio,height_law,"
+         "height_error,detached,post_runout_ratio,post_error,outcome\n";
   for (const auto& row : rows) {
     for (std::size_t k = 0; k < row.size(); ++k) csv << (k ? "," : "") << (k + 1 == row.size() ? "\"" + row[k] + "\"" : row[k]);
     csv << "\n";
   }
   md << "\nL_inf: the deposit's tip, bins 5 mm wide from the wall out to the first empty one (particles "
-        "beyond are 'detached'). H_inf: the deposit's highest particle over H0 = a L0. talus post: "
-        "runout_distance_m / L0 of metrics.json, whose tip leaves out a front thinner than its rule "
-        "(docs/postproc.md).\n\n";
+        "beyond are 'detached'). H_inf: the deposit's highest particle; H0 / H_inf is the final height's "
+        "ratio (1 where the top stays at H0). talus post: runout_distance_m / L0 of metrics.json, whose tip "
+        "leaves out a front thinner than its rule (docs/postproc.md).\n\n";
 }
+
+const ColumnCase kSandColumn{"column", "column_collapse", "Column collapse", "Lube",
+                             [](double a) { return testing::lube_runout(a); }, lube_height};
+const ColumnCase kRodsColumn{"rods", "rods_collapse", "Aluminium rods (measured parameters)", "Nguyen",
+                            rods_runout, rods_height};
 
 void run_slope(const Options& options, std::ostringstream& md) {
   md << "## Slope runout (geometries/slope.toml) against element size\n\n"
@@ -245,11 +289,11 @@ std::vector<double> numbers(const std::string& text) {
 
 int usage(const char* self, int status) {
   std::fprintf(status ? stderr : stdout,
-               "usage: %s [--only column|slope|vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
+               "usage: %s [--only column,rods,slope,vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
                "          [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
                "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic (apic with\n"
                "               --set run.shape_functions=bspline --set mesh.pattern=grid)\n"
-               "  --aspect     column aspect ratios (default 0.5,3)\n"
+               "  --aspect     column aspect ratios (default 0.5,3 for column, 1,2,4 for rods)\n"
                "  --sizes      slope element sizes in m (default 0.5,0.25)\n"
                "  --set        a scene override for every column and slope run\n",
                self);
@@ -270,7 +314,7 @@ int main(int argc, char** argv) {
       const bool has_value = i + 1 < argc;
       if (arg == "--only" && has_value) options.parts = split(argv[++i]);
       else if (arg == "--transfers" && has_value) options.transfers = split(argv[++i]);
-      else if (arg == "--aspect" && has_value) options.aspect = numbers(argv[++i]);
+      else if (arg == "--aspect" && has_value) options.aspect = options.rods_aspect = numbers(argv[++i]);
       else if (arg == "--sizes" && has_value) options.sizes = numbers(argv[++i]);
       else if (arg == "--set" && has_value) options.overrides.push_back(argv[++i]);
       else if (arg == "--out" && has_value) options.out = argv[++i];
@@ -284,7 +328,8 @@ int main(int argc, char** argv) {
     md << "# Runout benchmark\n\n";
     const double start = bench::now_seconds();
     for (const auto& part : options.parts) {
-      if (part == "column") run_column(options, md);
+      if (part == "column") run_column(options, kSandColumn, options.aspect, md);
+      else if (part == "rods") run_column(options, kRodsColumn, options.rods_aspect, md);
       else if (part == "slope") run_slope(options, md);
       else if (part == "vibration") run_vibration(options, md);
       else return usage(argv[0], 1);

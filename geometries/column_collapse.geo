@@ -7,6 +7,9 @@
 // follows the column's outline.
 DefineConstant[ a = {0.5, Min 0.1, Max 20, Name "Parameters/a"} ];    // aspect ratio H0 / L0
 DefineConstant[ L0 = {0.2, Min 0.01, Max 10, Name "Parameters/L0"} ];  // column length, m
+// The domain reaches `reach` times Lube's runout past the column (a material that runs further,
+// such as the aluminium rods of rods_collapse.toml, asks for more room).
+DefineConstant[ reach = {3, Min 1, Max 20, Name "Parameters/reach"} ];
 lc = 0.005;       // element size, m (5 mm triangles)
 H0 = a * L0;      // column height, m
 // Lube et al. (2005), 2D: (L_inf - L0) / L0 = 1.2 a for small a, 1.9 a^(2/3) for large a.
@@ -15,7 +18,7 @@ If (a < 2.3)
 Else
   spread = 1.9 * a^(2 / 3);
 EndIf
-W = L0 * (1 + 3 * spread) + 30 * lc;   // domain length, m: three times the law's runout
+W = L0 * (1 + reach * spread) + 30 * lc;   // domain length, m: `reach` times the law's runout
 D = 1.1 * H0 + 10 * lc;                // domain height, m
 
 Point(1) = {0, 0, 0, lc};

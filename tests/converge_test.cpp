@@ -5,7 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "support/test_support.hpp"
 #include "common/error.hpp"
@@ -110,4 +114,64 @@ TEST(ConvergeCommand, ASmallStudyWritesItsTablesAndFigure) {
   std::getline(csv_again, header_again);
   std::getline(csv_again, runout_again);
   EXPECT_EQ(runout_again, runout);  // the levels were reused, not rerun differently
+}
+
+TEST(ConvergeCommand, TransfersRunTheFinestLevelWithEachAndReportTheirSpread) {
+  // The default slope at 1 and 0.5 m for 1.5 s, then the finest level again with XPIC(2): the
+  // scene's own FLIP is the finest level itself (reused), XPIC(2)'s runout is the one a plain
+  // `talus run` with that transfer gives, and the spread is their difference.
+  ScratchDir dir("converge_transfers");
+  namespace fs = std::filesystem;
+  const std::string out = dir.file("study");
+  const std::string scene = source_path("geometries/slope.toml");
+  const std::string common = " --set run.end_time=1.5 --threads 1";
+  const auto result = run_talus("converge " + scene + common + " --set mesh.size=1 --levels 2 --transfers flip,xpic2 --out " + out);
+  ASSERT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find("transfer flip: the scene's own, the finest level"), std::string::npos) << result.output;
+  EXPECT_TRUE(fs::exists(fs::path(out) / "finest_xpic2" / "metrics.json"));
+  EXPECT_FALSE(fs::exists(fs::path(out) / "finest_flip"));
+  const auto single = run_talus("run " + scene + common + " --set mesh.size=0.5 --set run.transfer=xpic --set run.xpic_order=2 -q --out " +
+                                dir.file("xpic2"));
+  ASSERT_EQ(single.status, 0) << single.output;
+  auto runout_of = [](const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string json = text.str();
+    const auto at = json.find("\"runout_distance_m\":");
+    return at == std::string::npos ? std::nan("") : std::stod(json.substr(at + 20));
+  };
+  const double flip = runout_of(fs::path(out) / "level2_h0.5" / "metrics.json");
+  const double xpic = runout_of(dir.file("xpic2/metrics.json"));
+  ASSERT_TRUE(std::isfinite(flip) && std::isfinite(xpic));
+  std::ifstream csv(fs::path(out) / "transfers.csv");
+  std::string header, runout;
+  std::getline(csv, header);
+  std::getline(csv, runout);
+  EXPECT_EQ(header, "metric,unit,flip,xpic2,spread,spread_percent_of_mean,gci");
+  std::stringstream fields(runout);
+  std::vector<std::string> cells;
+  for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+  ASSERT_GE(cells.size(), 6u) << runout;
+  EXPECT_EQ(cells[0], "runout");
+  EXPECT_NEAR(std::stod(cells[2]), flip, 1e-9);
+  EXPECT_NEAR(std::stod(cells[3]), xpic, 1e-9);
+  EXPECT_NEAR(std::stod(cells[4]), std::abs(flip - xpic), 1e-9);
+  EXPECT_GT(std::abs(flip - xpic), 1e-3) << "the two transfers should not give the same runout";
+}
+
+TEST(ConvergeCommand, TransfersThatCannotRunAreRefusedBeforeAnyLevelRuns) {
+  ScratchDir dir("converge_transfers_refused");
+  const std::string scene = source_path("geometries/slope.toml");
+  for (const auto& [list, words] : std::vector<std::pair<std::string, std::string>>{
+           {"flip,magic", "unknown transfer 'magic'"},
+           {"flip,xpic0", "unknown transfer 'xpic0'"},
+           {"flip,flip", "'flip' is listed twice"},
+           {"flip,apic", "--transfers apic cannot run"}}) {
+    const std::string out = dir.file("study_" + std::to_string(std::hash<std::string>{}(list)));
+    const auto result = run_talus("converge " + scene + " --set mesh.size=1 --levels 2 --transfers " + list + " --out " + out);
+    EXPECT_NE(result.status, 0) << list;
+    EXPECT_NE(result.output.find(words), std::string::npos) << list << "\n" << result.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << list << ": nothing is written";
+  }
 }

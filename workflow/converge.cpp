@@ -97,11 +97,37 @@ std::vector<std::string> with_size(const std::vector<std::string>& overrides, do
   return all;
 }
 
+// The finest level run with another transfer (--transfers).
+struct TransferLevel {
+  std::string name;
+  std::vector<std::string> overrides;  // the transfer's --set, after the study's own
+  bool reused = false;                 // the scene's own transfer: the finest level itself
+  Level run;
+};
+
 struct Study {
   std::vector<Level> levels;  // coarse to fine
   double ratio = 2;
   std::vector<std::optional<GridConvergence>> convergence;  // per metric; none with 2 levels or a missing value
+  std::vector<TransferLevel> transfers;                     // --transfers, at the finest size
 };
+
+// The transfers' spread of metric m at the finest size: max - min, NaN when any is missing.
+double transfer_spread(const Study& study, std::size_t m) {
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const auto& t : study.transfers) {
+    if (!std::isfinite(t.run.values[m])) return kNaN;
+    low = std::min(low, t.run.values[m]);
+    high = std::max(high, t.run.values[m]);
+  }
+  return study.transfers.empty() ? kNaN : high - low;
+}
+
+double transfer_mean(const Study& study, std::size_t m) {
+  double sum = 0;
+  for (const auto& t : study.transfers) sum += t.run.values[m];
+  return sum / static_cast<double>(study.transfers.size());
+}
 
 // Relative change between the two finest levels, |f1 - f2| / |f1|.
 double finest_change(const Study& study, std::size_t m) {
@@ -170,6 +196,37 @@ std::string markdown(const Study& study, const std::string& scene_path) {
     else
       md << " - | - | - | two levels: no band |\n";
   }
+  if (!study.transfers.empty()) {
+    md << "\n## The transfers at the finest size (mesh.size = " << number_text(study.levels.back().size, 6)
+       << " m)\n\n| metric |";
+    for (const auto& t : study.transfers) md << " " << t.name << " |";
+    md << " spread (max - min) | spread / mean | mesh band (GCI) | all: lowest - band .. highest + band |\n|---|";
+    for (std::size_t k = 0; k < study.transfers.size(); ++k) md << "---|";
+    md << "---|---|---|---|\n";
+    for (std::size_t m = 0; m < metrics.size(); ++m) {
+      if (!std::isfinite(study.levels.back().values[m])) continue;
+      md << "| " << metrics[m].name << " (" << metrics[m].unit << ") |";
+      double low = std::numeric_limits<double>::infinity(), high = -low;
+      for (const auto& t : study.transfers) {
+        md << " " << fixed(t.run.values[m], 3) << " |";
+        low = std::min(low, t.run.values[m]);
+        high = std::max(high, t.run.values[m]);
+      }
+      const double spread = transfer_spread(study, m);
+      const auto& g = study.convergence[m];
+      md << " " << fixed(spread, 3) << " | " << fixed(100 * spread / std::abs(transfer_mean(study, m)), 1) << " % | "
+         << (g ? fixed(g->band, 3) : std::string("-")) << " | ";
+      if (g && std::isfinite(spread)) md << fixed(low - g->band, 3) << " .. " << fixed(high + g->band, 3);
+      else md << "-";
+      md << " |\n";
+    }
+    md << "\n| transfer | folder | steps | time loop (s) | wall time here (s) |\n|---|---|---|---|---|\n";
+    for (const auto& t : study.transfers)
+      md << "| " << t.name << " | " << (t.reused ? "the finest level (the scene's transfer)" : t.run.folder) << " | "
+         << t.run.steps << " | " << fixed(t.run.loop_seconds, 1) << " | " << fixed(t.run.wall_seconds, 1) << " |\n";
+    md << "\nThe band measures one scheme's mesh error; the spread, the scheme's: an error bar for the answer "
+          "covers both (docs/converge.md, \"The transfers\").\n";
+  }
   md << "\nRatio " << number_text(study.ratio, 6)
      << ". Order, extrapolate and band from the three finest levels by Celik et al. (2008) and Roache (1998): "
         "monotone convergence, Fs = 1.25 with the observed order (capped at 2); oscillatory or divergent, "
@@ -196,9 +253,85 @@ void print_table(const Study& study, std::ostream& log) {
       log << "-";
     log << "\n";
   }
+  if (study.transfers.empty()) return;
+  log << "\n  at h=" << number_text(study.levels.back().size, 4) << " " << std::left << std::setw(13) << "transfers";
+  for (const auto& t : study.transfers) log << std::right << std::setw(10) << t.name;
+  log << std::setw(10) << "spread" << "\n";
+  for (std::size_t m = 0; m < metrics.size(); ++m) {
+    if (!std::isfinite(study.levels.back().values[m])) continue;
+    log << "  " << std::left << std::setw(22) << (metrics[m].name + " (" + metrics[m].unit + ")") << std::right;
+    for (const auto& t : study.transfers) log << std::setw(10) << fixed(t.run.values[m], 3);
+    const double spread = transfer_spread(study, m);
+    log << std::setw(10) << fixed(spread, 3) << " (" << fixed(100 * spread / std::abs(transfer_mean(study, m)), 1)
+        << " %)\n";
+  }
+}
+
+void write_transfers_csv(const Study& study, const std::string& path) {
+  std::ostringstream csv;
+  csv << "metric,unit";
+  for (const auto& t : study.transfers) csv << "," << t.name;
+  csv << ",spread,spread_percent_of_mean,gci\n";
+  const auto& metrics = converge_metrics();
+  for (std::size_t m = 0; m < metrics.size(); ++m) {
+    if (!std::isfinite(study.levels.back().values[m])) continue;
+    csv << metrics[m].name << "," << metrics[m].unit;
+    for (const auto& t : study.transfers) csv << "," << csv_number(t.run.values[m]);
+    const double spread = transfer_spread(study, m);
+    csv << "," << csv_number(spread) << "," << csv_number(100 * spread / std::abs(transfer_mean(study, m))) << ","
+        << (study.convergence[m] ? csv_number(study.convergence[m]->band) : "") << "\n";
+  }
+  write_text_atomically(path, csv.str());
+}
+
+// Runs the pipeline for one level into level.folder and reads back its metrics; `what` names it
+// in the message of a failed run.
+void run_level(const ConvergeOptions& options, const std::vector<std::string>& overrides, Level& level,
+               const std::string& what, std::ostream& log) {
+  StageOptions stage;
+  stage.overrides = overrides;
+  stage.out = level.folder;
+  stage.quiet = true;
+  stage.threads = options.threads;
+  const Clock::time_point start = Clock::now();
+  std::ostringstream discarded;
+  const int status = run_pipeline(options.scene_path, stage, discarded);
+  level.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (status != 0) throw Error("converge: " + what + " failed: " + discarded.str());
+  read_run_attributes(level);
+  level.values = level_metrics(level.folder);
+  if (!options.quiet)
+    log << "  done in " << fixed(level.wall_seconds, 1) << " s (time loop " << fixed(level.loop_seconds, 1) << " s, "
+        << level.particles << " particles, " << level.steps << " steps): runout " << fixed(level.values[0], 3) << " m"
+        << std::endl;
+}
+
+// The run settings a transfer's overrides give at the finest level, to tell the scene's own.
+bool same_transfer(const RunSettings& a, const RunSettings& b) {
+  return a.transfer == b.transfer && (a.transfer != Transfer::Xpic || a.xpic_order == b.xpic_order) &&
+         (a.transfer != Transfer::PicBlend || a.pic_fraction == b.pic_fraction);
+}
+
+bool is_transfer_key(const std::string& text) {
+  for (const char* key : {"run.transfer=", "run.xpic_order=", "run.pic_fraction="})
+    if (text.rfind(key, 0) == 0) return true;
+  return false;
 }
 
 }  // namespace
+
+std::vector<std::string> transfer_overrides(const std::string& name) {
+  if (name == "flip" || name == "apic" || name == "pic_blend") return {"run.transfer=" + name};
+  if (name == "xpic") return {"run.transfer=xpic", "run.xpic_order=5"};
+  if (name.rfind("xpic", 0) == 0 && name.size() > 4 && name.size() <= 7 &&
+      name.find_first_not_of("0123456789", 4) == std::string::npos) {
+    const int order = std::stoi(name.substr(4));
+    if (order >= 1 && order <= 100) return {"run.transfer=xpic", "run.xpic_order=" + std::to_string(order)};
+  }
+  throw Error("converge: --transfers: unknown transfer '" + name +
+              "' (expected flip, apic, pic_blend, xpic (order 5) or xpicM with M from 1 to 100)");
+}
+
 
 constexpr const char* kNoConvergeMetrics =
     "converge follows runout, crest retreat, travel angle, failed area and the slip circle: the scene's metrics "
@@ -256,6 +389,27 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
     }
     study.levels.push_back(level);
   }
+  // Each transfer of --transfers is checked on the finest level's scene before anything runs (the
+  // scene reader refuses, for example, APIC on linear triangles).
+  const double finest = study.levels.back().size;
+  const RunSettings own = load_scene(options.scene_path, with_size(overrides, finest)).run;
+  std::vector<std::string> without_transfer;
+  for (const auto& text : overrides)
+    if (!is_transfer_key(text)) without_transfer.push_back(text);
+  for (const auto& name : options.transfers) {
+    for (const auto& t : study.transfers)
+      if (t.name == name) throw Error("converge: --transfers: '" + name + "' is listed twice");
+    TransferLevel t;
+    t.name = name;
+    t.overrides = with_size(without_transfer, finest);
+    for (const auto& o : transfer_overrides(name)) t.overrides.push_back(o);
+    try {
+      t.reused = same_transfer(load_scene(options.scene_path, t.overrides).run, own);
+    } catch (const Error& error) {
+      throw Error("converge: --transfers " + name + " cannot run: " + error.what());
+    }
+    study.transfers.push_back(t);
+  }
 
   const std::string folder =
       options.out ? output_folder(options.out, scene)
@@ -267,22 +421,23 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
     if (!options.quiet)
       log << "level " << k + 1 << "/" << options.levels << ": mesh.size = " << number_text(level.size, 6) << " m in "
           << level.folder << " ..." << std::endl;
-    StageOptions stage;
-    stage.overrides = with_size(overrides, level.size);
-    stage.out = level.folder;
-    stage.quiet = true;
-    stage.threads = options.threads;
-    const Clock::time_point start = Clock::now();
-    std::ostringstream discarded;
-    const int status = run_pipeline(options.scene_path, stage, discarded);
-    level.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (status != 0) throw Error("converge: level " + std::to_string(k + 1) + " failed: " + discarded.str());
-    read_run_attributes(level);
-    level.values = level_metrics(level.folder);
+    run_level(options, with_size(overrides, level.size), level, "level " + std::to_string(k + 1), log);
+  }
+
+  for (std::size_t k = 0; k < study.transfers.size(); ++k) {
+    TransferLevel& t = study.transfers[k];
+    if (t.reused) {
+      t.run = study.levels.back();
+      t.run.wall_seconds = 0;
+      if (!options.quiet) log << "transfer " << t.name << ": the scene's own, the finest level" << std::endl;
+      continue;
+    }
+    t.run.size = finest;
+    t.run.folder = (fs::path(folder) / ("finest_" + t.name)).string();
     if (!options.quiet)
-      log << "  done in " << fixed(level.wall_seconds, 1) << " s (time loop " << fixed(level.loop_seconds, 1) << " s, "
-          << level.particles << " particles, " << level.steps << " steps): runout "
-          << fixed(level.values[0], 3) << " m" << std::endl;
+      log << "transfer " << k + 1 << "/" << study.transfers.size() << ": " << t.name << " at mesh.size = "
+          << number_text(finest, 6) << " m in " << t.run.folder << " ..." << std::endl;
+    run_level(options, t.overrides, t.run, "transfer " + t.name, log);
   }
 
   const auto& metrics = converge_metrics();
@@ -302,6 +457,7 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
 
   const std::string csv = (fs::path(folder) / "converge.csv").string();
   write_csv(study, csv);
+  if (!study.transfers.empty()) write_transfers_csv(study, (fs::path(folder) / "transfers.csv").string());
   write_text_atomically((fs::path(folder) / "converge.md").string(), markdown(study, options.scene_path));
   if (!options.quiet) print_table(study, log);
   try {

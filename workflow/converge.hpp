@@ -1,6 +1,7 @@
 // `talus converge SCENE`: the scene's metrics at successively finer meshes, with their observed
 // order, Richardson's extrapolate and Roache's grid convergence index as a numerical error band
-// (workflow/gci.hpp, docs/converge.md). Level k (k = 0 .. levels-1) runs `talus run` with
+// (workflow/gci.hpp, docs/converge.md). With --transfers, the finest level again with each
+// transfer in OUT/finest_<transfer>, and the transfers' spread beside the band. Level k (k = 0 .. levels-1) runs `talus run` with
 // mesh.size = h0 / ratio^k in OUT/level<k+1>_h<size>, so a rerun recomputes only the levels
 // whose inputs changed (workflow/stamps.hpp). Writes OUT/converge.csv, OUT/converge.md and the
 // figure OUT/converge.png (postproc/converge_figure.py).
@@ -22,7 +23,14 @@ struct ConvergeOptions {
   double ratio = 2;                    // > 1: h(k+1) = h(k) / ratio
   int threads = 0;                     // the solver's threads; 0: all cores
   bool quiet = false;
+  // --transfers: the finest level run again with each of these transfers (flip, apic, pic_blend,
+  // xpic = XPIC(5), xpicM), and their spread reported beside the mesh band. Empty: none.
+  std::vector<std::string> transfers;
 };
+
+// A transfer of --transfers as --set overrides: flip, apic, pic_blend, xpic (order 5) or xpicM.
+// Throws talus::Error for another name.
+std::vector<std::string> transfer_overrides(const std::string& name);
 
 // The metrics the study follows: metrics.json key (slip_circle: its r_m), name, unit.
 struct ConvergeMetric {
