@@ -96,6 +96,7 @@ Arguments parse(int argc, char** argv) {
       if (*args.jobs < 1 || *args.jobs > solver::thread_cap())
         throw Error("--jobs: expected an integer from 1 to " + std::to_string(solver::thread_cap()) + ", got '" + text + "'");
     } else if (word == "--restart") args.restart = true;
+    else if (word == "--fos") args.fos = true;
     else if (word.rfind("--", 0) == 0) args.flags.push_back(word);
     else if (args.command.empty()) args.command = word;
     else args.positional.push_back(word);

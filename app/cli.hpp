@@ -18,7 +18,7 @@ struct Arguments {
   bool quiet = false;                  // --quiet
   bool help = false;                   // --help / -h
   int threads = 0;                     // --threads N (0: all cores)
-  int ranks = 0;                       // --ranks N (solve, run: MPI ranks; 0: none asked)
+  int ranks = 0;                       // --ranks N (solve, run, ensemble: MPI ranks; 0: none asked)
   std::optional<double> checkpoint_interval;  // --checkpoint-interval T (s of simulated time)
   bool restart = false;                       // --restart
   std::optional<double> tolerance;            // --tolerance DF (fos: bracket width)
@@ -28,6 +28,7 @@ struct Arguments {
   std::optional<long> realisations;           // --realisations N (ensemble)
   std::optional<std::string> seed;            // --seed S (ensemble; checked there)
   std::optional<int> jobs;                    // --jobs J (ensemble)
+  bool fos = false;                           // --fos (ensemble)
   std::vector<std::string> flags;      // other --name[=value] options, for subcommands
 };
 

@@ -56,12 +56,15 @@ Usage:
         and grid convergence index: DIR/converge.csv, converge.md, converge.png
         (docs/converge.md). --transfers flip,apic,xpic also runs the finest level with
         each transfer (xpic: order 5) and reports their spread beside the band.
-  talus ensemble SCENE.toml [--realisations N] [--seed S] [--jobs J]
-              [--set KEY=VALUE]... [--out DIR]
+  talus ensemble SCENE.toml [--realisations N] [--seed S] [--jobs J] [--ranks R]
+              [--fos [--tolerance DF]] [--set KEY=VALUE]... [--out DIR]
         Probabilistic runout over the scene's [random] fields: meshes once, then
         realisation k (of N, default 100) draws its fields from seed S + k (default
         S = 1), solves and measures them; J realisations at once, one thread each
-        (default one per core). Ctrl-C stops; the same command again resumes with
+        (default one per core). --ranks R: the realisations shared over R MPI ranks
+        (mpirun), J at once on each (default: the cores shared out). --fos: each
+        realisation's factor of safety too, by strength reduction as talus fos
+        (several times the cost). Ctrl-C stops; the same command again resumes with
         the same answer. DIR/realisations.csv, ensemble.json (probability of
         failure with its 95 % interval, runout quantiles, exceedance curve, reach
         along the ground) and figures (default DIR: out/<scene name>/ensemble;
@@ -77,7 +80,8 @@ Options:
   --ranks N         solve, run: the solve on N MPI ranks of this machine
                     (mpirun -n N --oversubscribe), each with its own threads
                     (--threads, else the cores shared out); the frames agree
-                    with one rank's (docs/scaling.md)
+                    with one rank's (docs/scaling.md). ensemble: the
+                    realisations over N ranks, the rows those of one process
   --checkpoint-interval T
                     solve, run: write DIR/checkpoint.h5 every T s of simulated
                     time (default 0: only when interrupted)
@@ -156,11 +160,11 @@ workflow::EnsembleOptions ensemble_options(const cli::Arguments& args) {
   if (args.positional.size() != 1) throw Error("ensemble: expected one scene file (see talus --help)");
   if (!args.flags.empty()) throw Error("ensemble: unknown option '" + args.flags.front() + "' (see talus --help)");
   if (args.threads) throw Error("--threads belongs to solve, run, fos and converge: ensemble runs each realisation on one thread, --jobs at once");
-  if (args.ranks) throw Error("--ranks belongs to solve or run: ensemble runs on one machine (--jobs)");
   if (args.restart || args.checkpoint_interval)
     throw Error("--checkpoint-interval and --restart belong to solve or run: ensemble resumes by itself when run again");
-  if (args.tolerance || args.levels || args.ratio || args.transfers)
-    throw Error("--tolerance, --levels, --ratio and --transfers do not belong to ensemble");
+  if (args.levels || args.ratio || args.transfers)
+    throw Error("--levels, --ratio and --transfers do not belong to ensemble");
+  if (args.tolerance && !args.fos) throw Error("--tolerance: the bracket width of --fos's search; give --fos with it");
   workflow::EnsembleOptions options;
   options.scene_path = args.positional.front();
   options.overrides = args.overrides;
@@ -168,6 +172,9 @@ workflow::EnsembleOptions ensemble_options(const cli::Arguments& args) {
   options.quiet = args.quiet;
   if (args.realisations) options.realisations = *args.realisations;
   if (args.jobs) options.jobs = *args.jobs;
+  options.ranks = args.ranks;
+  options.fos = args.fos;
+  options.tolerance = args.tolerance;
   if (args.seed) {
     const std::string& text = *args.seed;
     const bool digits = !text.empty() && text.size() <= 16 && text.find_first_not_of("0123456789") == std::string::npos;
@@ -183,7 +190,7 @@ void reject_unknown_options(const cli::Arguments& args, bool solves) {
     throw Error("unknown option '" + args.flags.front() + "' for talus " + args.command + " (see talus --help)");
   if (!solves && (args.restart || args.checkpoint_interval))
     throw Error("--checkpoint-interval and --restart belong to solve or run, not " + args.command);
-  if (!solves && args.ranks) throw Error("--ranks belongs to solve or run, not " + args.command);
+  if (!solves && args.ranks) throw Error("--ranks belongs to solve, run or ensemble, not " + args.command);
   if (args.tolerance) throw Error("--tolerance belongs to fos, not " + args.command);
   if (args.levels || args.ratio || args.transfers)
     throw Error("--levels, --ratio and --transfers belong to converge, not " + args.command);
@@ -205,11 +212,18 @@ int run_command(const cli::Arguments& args) {
     return 0;
   }
   if (args.command.empty()) throw Error("unknown option '" + args.flags.front() + "' (see talus --help)");
-  if (solver::mpi::distributed() && args.command != "solve")
+  // An ensemble runs under mpirun only as the ranks of `talus ensemble --ranks N`, which hold its
+  // folder's lock from the process that started them.
+  if (solver::mpi::distributed() && args.command != "solve" &&
+      !(args.command == "ensemble" && workflow::launched_by_ranks_parent()))
     throw SharedError("under mpirun only `talus solve MODEL.h5` runs (on every rank); for the pipeline on several "
-                      "ranks use `talus run SCENE --ranks N` (see talus --help)");
+                      "ranks use `talus run SCENE --ranks N`, for an ensemble `talus ensemble SCENE --ranks N` "
+                      "(see talus --help)");
   if (args.command != "ensemble" && (args.realisations || args.seed || args.jobs))
     throw Error("--realisations, --seed and --jobs belong to ensemble, not " + args.command);
+  if (args.command != "ensemble" && args.fos)
+    throw Error("--fos belongs to ensemble (each realisation's factor of safety), not " + args.command +
+                (args.command == "fos" ? "" : "; the factor of safety of a scene is `talus fos SCENE`"));
   if (args.command == "mesh" || args.command == "solve" || args.command == "post" || args.command == "run")
     reject_unknown_options(args, args.command == "solve" || args.command == "run");
   if (args.command == "mesh") {

@@ -140,15 +140,29 @@ class TrialVerdict : public Observer {
   long steps0_ = 0;
 };
 
+// Stops the run after the step in which ReductionProblem::stop became non-zero.
+class StopWhenAsked : public Observer {
+ public:
+  explicit StopWhenAsked(const std::atomic<int>* stop) : stop_(stop) {}
+  Verdict after_step(Simulation&, const StepEvent&) override {
+    return stop_ && stop_->load() != 0 ? Verdict::stop("stopped") : Verdict::go_on();
+  }
+
+ private:
+  const std::atomic<int>* stop_;
+};
+
 // Runs sim until the verdict, through the one time loop with the particle sorter and the
-// blow-up budget of every run.
+// blow-up budget of every run. Throws TrialsStopped when problem.stop asked it to stop.
 TrialOutcome run_to_verdict(Simulation& sim, const ReductionProblem& problem, double min_time, double budget,
                             double window) {
   const auto start = Clock::now();
   ParticleSorter sorter;
   BlowUpBudget blow_up = BlowUpBudget::starting_from(sim, energies(sim));
   TrialVerdict verdict(sim, problem, min_time, budget, window);
-  const LoopEnd end = run_time_loop(sim, problem.settings.cfl, kNever, {&sorter, &blow_up, &verdict});
+  StopWhenAsked stop(problem.stop);
+  const LoopEnd end = run_time_loop(sim, problem.settings.cfl, kNever, {&sorter, &blow_up, &verdict, &stop});
+  if (end.by == &stop) throw TrialsStopped{};
   TrialOutcome out = verdict.outcome;
   out.failed = end.kind != LoopEnd::Stopped;
   out.reason = end.kind == LoopEnd::Stopped || end.kind == LoopEnd::Failed ? end.reason : "blow-up";

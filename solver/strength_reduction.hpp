@@ -20,6 +20,7 @@
 // `workers` equally spaced interior points per round (bisection with one worker, trisection
 // with two), until upper - lower <= tolerance.
 #pragma once
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -91,7 +92,13 @@ struct ReductionProblem {
   // [seismic]: the pseudo-static body force added to gravity from the start of the equilibrium
   // phase (ramped with it) and kept in every trial (m/s^2; pseudo_static_force).
   Vec2 pseudo_static{0, 0};
+  // When given and non-zero after a step (a signal, `talus ensemble`), the equilibrium phase or the
+  // trial stops after that step and throws TrialsStopped.
+  const std::atomic<int>* stop = nullptr;
 };
+
+// Thrown by bring_to_equilibrium and run_trial(s) when ReductionProblem::stop asked them to stop.
+struct TrialsStopped {};
 
 // k_h |g| towards the toe (-x when the slope descends towards -x) and k_v |g| upwards, for gravity
 // along -y; zero without [seismic].

@@ -58,6 +58,27 @@ std::string rows_of(const std::string& path) {
 
 long lines_of(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
 
+// `talus ARGUMENTS --out OUT` started by a shell, which sends it SIGINT once OUT/realisations.csv
+// has `lines` lines (each realisation takes seconds, so few more follow), waits for it and says
+// "status S"; then runs `after`. The talus's own output goes to LOG.
+talus::testing::CommandResult stopped_once_rows_are_in(const std::string& arguments, const std::string& out,
+                                                       const std::string& log, int lines,
+                                                       const std::string& after = "") {
+  std::ostringstream command;
+  command << TALUS_BINARY << " " << arguments << " --out " << out << " > " << log
+          << " 2>&1 & pid=$!; for i in $(seq 1200); do [ \"$(cat " << out
+          << "/realisations.csv 2>/dev/null | grep -c '')\" -ge " << lines
+          << " ] && break; sleep 0.1; done; kill -INT $pid; wait $pid; echo status $?; " << after;
+  return talus::testing::run_shell(command.str());
+}
+
+// The rows of `talus ensemble ARGUMENTS --out OUT`, which must succeed.
+std::string rows_of_run(const std::string& arguments, const std::string& out) {
+  const auto run = run_talus(arguments + " --out " + out);
+  EXPECT_EQ(run.status, 0) << run.output;
+  return rows_of(out + "/realisations.csv");
+}
+
 }  // namespace
 
 TEST(EnsembleStatistics, WilsonIntervalHasItsClosedFormsAndCoverage) {
@@ -135,6 +156,17 @@ TEST(EnsembleReport, RowsReadBackAsWrittenAndCutLinesAreDropped) {
   rows = workflow::read_rows(path, 42, fields, dropped);
   EXPECT_EQ(rows.size(), 2u);
   EXPECT_EQ(dropped, 1);
+
+  // --fos: a column fos, empty when the search found none; a CSV of the other kind is not read.
+  a.fos = 1.0 / 7, b.fos.reset();
+  workflow::write_rows(path, 42, fields, {a, b}, true);
+  rows = workflow::read_rows(path, 42, fields, dropped, true);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows.at(a.seed).fos, a.fos);
+  EXPECT_FALSE(rows.at(b.seed).fos.has_value());
+  EXPECT_EQ(workflow::csv_line(rows.at(a.seed), true), workflow::csv_line(a, true));
+  EXPECT_NE(read_text(path).find(",mean_c,mean_phi,fos,message\n"), std::string::npos);
+  EXPECT_TRUE(workflow::read_rows(path, 42, fields, dropped, false).empty());
 }
 
 TEST(EnsembleCommand, BadInputIsRefusedWithNothingWritten) {
@@ -153,7 +185,10 @@ TEST(EnsembleCommand, BadInputIsRefusedWithNothingWritten) {
       {with_field + " --seed 9007199254740991 --realisations 2", "--seed: the seeds S to S + N - 1 must be at most"},
       {with_field + " --jobs 0", "--jobs: expected an integer from 1"},
       {with_field + " --threads 2", "--threads belongs to"},
-      {with_field + " --fos", "ensemble: unknown option '--fos'"},
+      {with_field + " --frobnicate", "ensemble: unknown option '--frobnicate'"},
+      {with_field + " --tolerance 0.02", "--tolerance: the bracket width of --fos's search; give --fos with it"},
+      {with_field + " --fos --tolerance 1e-300", "--tolerance: got 1e-300, below"},
+      {with_field + " --ranks 0", "--ranks: expected an integer from 1 to 256, got '0'"},
       {without, "random: the scene has no [random.NAME] table"},
       {with_field + " --set random.cohesion.cov=-1", "random.cohesion.cov"},
   };
@@ -167,6 +202,9 @@ TEST(EnsembleCommand, BadInputIsRefusedWithNothingWritten) {
   const auto other = run_talus("fos " + with_field + " --seed 3");
   EXPECT_EQ(other.status, 1);
   EXPECT_NE(other.output.find("--realisations, --seed and --jobs belong to ensemble, not fos"), std::string::npos);
+  const auto fos_flag = run_talus("run " + with_field + " --fos");
+  EXPECT_EQ(fos_flag.status, 1);
+  EXPECT_NE(fos_flag.output.find("--fos belongs to ensemble"), std::string::npos) << fos_flag.output;
 }
 
 // An ensemble stopped by SIGINT keeps its finished rows; the same command again runs the rest, and
@@ -175,20 +213,14 @@ TEST(EnsembleCommand, InterruptedThenResumedGivesTheSameCsvAsUninterrupted) {
   const ScratchDir dir("ensemble_resume");
   const std::string scene = slope_scene(dir, kRandomCohesion);
   const std::string common = "ensemble " + scene + " --realisations 6 --seed 11 -q";
-  const auto whole = run_talus(common + " --jobs 2 --out " + dir.file("whole"));
-  ASSERT_EQ(whole.status, 0) << whole.output;
-  const std::string expected = rows_of(dir.file("whole/realisations.csv"));
+  const std::string expected = rows_of_run(common + " --jobs 2", dir.file("whole"));
   EXPECT_EQ(lines_of(expected), 7);  // header and six rows
   EXPECT_TRUE(fs::exists(dir.file("whole/ensemble.json")));
 
   // Stopped once two realisations are in its CSV (on one job the others follow one by one, each
   // taking seconds), by a shell that sends SIGINT to the talus it started.
   const std::string parts = dir.file("parts");
-  std::ostringstream command;
-  command << TALUS_BINARY << " " << common << " --jobs 1 --out " << parts << " > " << dir.file("stopped.log")
-          << " 2>&1 & pid=$!; for i in $(seq 1200); do [ \"$(grep -c '' " << parts
-          << "/realisations.csv 2>/dev/null)\" -ge 4 ] && break; sleep 0.1; done; kill -INT $pid; wait $pid; echo status $?";
-  const auto stopped = talus::testing::run_shell(command.str());
+  const auto stopped = stopped_once_rows_are_in(common + " --jobs 1", parts, dir.file("stopped.log"), 4);
   ASSERT_NE(stopped.output.find("status 130"), std::string::npos) << stopped.output;
   const std::string stopped_log = read_text(dir.file("stopped.log"));
   EXPECT_NE(stopped_log.find("interrupted by SIGINT"), std::string::npos) << stopped_log;
@@ -204,13 +236,10 @@ TEST(EnsembleCommand, InterruptedThenResumedGivesTheSameCsvAsUninterrupted) {
             json_number(read_text(dir.file("whole/ensemble.json")), "probability_of_failure"));
 }
 
-// Correlation lengths of inf: each realisation is one value of c_u, so the slope fails exactly
-// when c_u < mean / F, F the factor of safety at the mean. A Tresca clay (phi = 0) on Griffiths and
-// Lane's 2:1 slope, loaded by a gravity ramp with damping so that the runs are quasi-static as in
-// `talus fos`: P(c_u < mean / F) from the lognormal must lie in the ensemble's 95 % interval.
-TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
-  const ScratchDir dir("ensemble_tresca");
-  const double mean = 25e3, cov = 0.3;
+// The Tresca clay of Griffiths and Lane's 2:1 slope with c_u lognormal (mean 25 kPa, cov 0.3) and
+// fully correlated, written into `dir` (tresca.toml), and the settings that make its runs
+// quasi-static (docs/ensemble.md, "The fully correlated limit").
+std::string tresca_scene(const ScratchDir& dir, double mean, double cov, std::string& sets) {
   std::string text = read_text(source_path("geometries/griffiths_lane.toml"));
   text = std::regex_replace(text, std::regex("geometry = \"griffiths_lane.geo\""),
                             "geometry = \"" + source_path("geometries/griffiths_lane.geo") + "\"");
@@ -219,10 +248,39 @@ TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
          << "mean = " << mean << "\ncov = " << cov << "\ncorrelation_length = [inf, inf]\n";
   const std::string scene = dir.file("tresca.toml");
   std::ofstream(scene) << text << random.str();
-  const std::string sets = " --set materials.soil.friction_angle=0 --set materials.soil.cohesion=" +
-                           std::to_string(mean) +
-                           " --set materials.soil.youngs_modulus=2e7 --set run.gravity_ramp=3 --set run.damping=0.05"
-                           " --set run.end_time=12 --set run.rest_ratio=0 --set mesh.size=2";
+  sets = " --set materials.soil.friction_angle=0 --set materials.soil.cohesion=" + std::to_string(mean) +
+         " --set materials.soil.youngs_modulus=2e7 --set run.gravity_ramp=3 --set run.damping=0.05"
+         " --set run.end_time=12 --set run.rest_ratio=0 --set mesh.size=2";
+  return scene;
+}
+
+// The cells of the data rows of a realisations.csv (after its fingerprint and header).
+std::vector<std::vector<std::string>> csv_cells(const std::string& path, std::string* header = nullptr) {
+  std::istringstream csv(read_text(path));
+  std::string line;
+  std::getline(csv, line);
+  std::getline(csv, line);
+  if (header) *header = line;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    if (!line.empty() && line.back() == ',') f.emplace_back();
+    rows.push_back(f);
+  }
+  return rows;
+}
+
+// Correlation lengths of inf: each realisation is one value of c_u, so the slope fails exactly
+// when c_u < mean / F, F the factor of safety at the mean. A Tresca clay (phi = 0) on Griffiths and
+// Lane's 2:1 slope, loaded by a gravity ramp with damping so that the runs are quasi-static as in
+// `talus fos`: P(c_u < mean / F) from the lognormal must lie in the ensemble's 95 % interval.
+TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
+  const ScratchDir dir("ensemble_tresca");
+  const double mean = 25e3, cov = 0.3;
+  std::string sets;
+  const std::string scene = tresca_scene(dir, mean, cov, sets);
   const auto fos = run_talus("fos " + scene + sets + " -q --out " + dir.file("fos"));
   ASSERT_EQ(fos.status, 0) << fos.output;
   const std::string fos_json = read_text(dir.file("fos/fos.json"));
@@ -272,4 +330,82 @@ TEST(EnsembleValidation, FullyCorrelatedTrescaSlopeMatchesTheClosedForm) {
   }
   EXPECT_EQ(rows, n);
   EXPECT_GE(outside, n - 4);
+}
+
+// --fos in the fully correlated limit: a Tresca slope of uniform c_u has F = c_u / c_crit, so each
+// realisation's factor of safety is F_mean x c_u / mean, F_mean that of `talus fos` at the mean.
+// Both are the middles of brackets no wider than the tolerance, each holding its true value, so
+// they differ by at most tolerance / 2 x (1 + c_u / mean).
+TEST(EnsembleValidation, FullyCorrelatedTrescaFosScalesWithTheUndrainedStrength) {
+  const ScratchDir dir("ensemble_tresca_fos");
+  const double mean = 25e3, cov = 0.3, tolerance = 0.02;
+  std::string sets;
+  const std::string scene = tresca_scene(dir, mean, cov, sets);
+  const std::string search = " --tolerance " + std::to_string(tolerance);
+  const auto fos = run_talus("fos " + scene + sets + search + " -q --out " + dir.file("fos"));
+  ASSERT_EQ(fos.status, 0) << fos.output;
+  const double F = json_number(read_text(dir.file("fos/fos.json")), "factor_of_safety");
+  ASSERT_TRUE(F > 0.9 && F < 1.5) << F;
+
+  const long n = 4;
+  const auto run = run_talus("ensemble " + scene + sets + search + " --fos --realisations " + std::to_string(n) +
+                             " --seed 100 --jobs 2 -q --out " + dir.file("ensemble"));
+  ASSERT_EQ(run.status, 0) << run.output;
+  std::string header;
+  const auto rows = csv_cells(dir.file("ensemble/realisations.csv"), &header);
+  ASSERT_NE(header.find(",mean_undrained,fos,message"), std::string::npos) << header;
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(n));
+  int below = 0;
+  for (const auto& f : rows) {
+    ASSERT_EQ(f.size(), 16u);
+    const double c_u = std::stod(f[13]);
+    ASSERT_FALSE(f[14].empty()) << "no factor of safety: " << f[15];
+    const double F_k = std::stod(f[14]), expected = F * c_u / mean;
+    std::cout << "c_u = " << c_u << " Pa: F = " << F_k << ", F_mean c_u / mean = " << expected << "\n";
+    EXPECT_NEAR(F_k, expected, 0.5 * tolerance * (1 + c_u / mean)) << "c_u = " << c_u;
+    below += F_k < 1;
+  }
+  const std::string json = read_text(dir.file("ensemble/ensemble.json"));
+  EXPECT_EQ(json_number(json, "count"), n);
+  EXPECT_DOUBLE_EQ(json_number(json, "probability_below_1"), below / static_cast<double>(n));
+}
+
+// --ranks: the realisations shared over MPI ranks give the rows of one process, byte for byte; a
+// Ctrl-C at the driver stops every rank (none left running) and the same command resumes.
+// Skipped without MPI.
+TEST(EnsembleRanks, TwoRanksGiveTheRowsOfOneJobAndResumeAfterCtrlC) {
+  if (talus::testing::talus_version().find("(with MPI") == std::string::npos) GTEST_SKIP() << "talus was built without MPI";
+  const ScratchDir dir("ensemble_ranks");
+  const std::string scene = slope_scene(dir, kRandomCohesion);
+  const std::string common = "ensemble " + scene + " --realisations 5 --seed 21 -q";
+  const std::string expected = rows_of_run(common + " --jobs 1", dir.file("one"));
+  EXPECT_EQ(lines_of(expected), 6);
+
+  const auto two = run_talus("ensemble " + scene + " --realisations 5 --seed 21 --ranks 2 --jobs 1 --out " + dir.file("two"));
+  ASSERT_EQ(two.status, 0) << two.output;
+  EXPECT_NE(two.output.find("on 2 MPI ranks"), std::string::npos) << two.output;
+  EXPECT_NE(two.output.find("2 ranks x 1 job"), std::string::npos) << two.output;
+  EXPECT_EQ(rows_of(dir.file("two/realisations.csv")), expected);
+  EXPECT_EQ(json_number(read_text(dir.file("two/ensemble.json")), "probability_of_failure"),
+            json_number(read_text(dir.file("one/ensemble.json")), "probability_of_failure"));
+  EXPECT_TRUE(fs::exists(dir.file("two/ensemble_exceedance.png")));
+
+  // Stopped by SIGINT at the driver once a row is in: every rank stops, the driver exits 130.
+  const std::string parts = dir.file("parts");
+  // Then the ranks and mpirun still running, found by the options the driver gives them (this
+  // shell's own text does not match the pattern).
+  const auto stopped = stopped_once_rows_are_in(common + " --ranks 2 --jobs 1", parts, dir.file("stopped.log"), 3,
+                                                "sleep 1; echo left $(pgrep -f -c -- '[-]-seed 21 --jobs 1 --out " +
+                                                    parts + "')");
+  const std::string stopped_log = read_text(dir.file("stopped.log"));
+  ASSERT_NE(stopped.output.find("status 130"), std::string::npos) << stopped.output << stopped_log;
+  EXPECT_NE(stopped.output.find("left 0"), std::string::npos) << stopped.output;
+  EXPECT_NE(stopped_log.find("interrupted by SIGINT"), std::string::npos) << stopped_log;
+  EXPECT_FALSE(fs::exists(parts + "/ensemble.json"));
+  const std::string kept = rows_of(parts + "/realisations.csv");
+  EXPECT_GE(lines_of(kept), 2) << stopped_log;
+  EXPECT_LT(lines_of(kept), 6) << stopped_log;
+  const auto resumed = run_talus(common + " --ranks 2 --jobs 1 --out " + parts);
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(rows_of(parts + "/realisations.csv"), expected);
 }

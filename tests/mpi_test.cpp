@@ -310,7 +310,7 @@ TEST_F(Mpi, AnAbsurdInitialVelocityGivesOneRanksMessageOnTwo) {
 TEST(MpiOptions, RanksIsRefusedWhereNothingSolves) {
   const auto result = run_talus("post nowhere.h5 --ranks 2");
   EXPECT_EQ(result.status, 1);
-  EXPECT_NE(result.output.find("--ranks belongs to solve or run, not post"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--ranks belongs to solve, run or ensemble, not post"), std::string::npos) << result.output;
   const auto zero = run_talus("solve nowhere.h5 --ranks 0");
   EXPECT_EQ(zero.status, 1);
   EXPECT_NE(zero.output.find("--ranks: expected an integer from 1 to 256, got '0'"), std::string::npos) << zero.output;

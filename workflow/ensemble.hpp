@@ -26,7 +26,10 @@ struct EnsembleOptions {
   std::optional<std::string> out;      // default out/<scene name>/ensemble
   long realisations = 100;             // N, in [1, kMaxRealisations]
   std::uint64_t seed = 1;              // S, in [0, kMaxSeed - N + 1]
-  int jobs = 0;                        // realisations at once; 0: one per core
+  int jobs = 0;                        // realisations at once (on each rank); 0: one per core (shared out)
+  int ranks = 0;                       // --ranks R: the realisations over R MPI ranks; 0, 1: this process
+  bool fos = false;                    // --fos: each realisation's factor of safety too
+  std::optional<double> tolerance;     // --tolerance: --fos's bracket width (default solver::SearchSettings's)
   bool quiet = false;
   bool figures = true;                 // the PNGs (postproc/ensemble_figure.py)
 };
@@ -34,6 +37,13 @@ struct EnsembleOptions {
 // Returns the exit status: 0, or 1 when ensemble.json was written but the figures failed.
 // Throws talus::Error on bad input (before anything is written) and solver::Interrupted when
 // SIGINT or SIGTERM stopped it (the finished realisations kept in realisations.csv).
+//
+// With --ranks R (options.ranks > 1) this process starts R ranks under mpirun (workflow/launch.hpp)
+// and waits (RanksFailed when they fail or are stopped); each rank, a `talus ensemble` under
+// mpirun with the same options, meshes the scene and runs every R-th of the realisations left,
+// from its own rank on, `jobs` at once; every 0.2 s rank 0 collects the finished rows of all and
+// appends them to realisations.csv, and at the end writes the CSV and ensemble.json as one
+// process would. A signal on any rank stops every rank.
 int run_ensemble(const EnsembleOptions& options, std::ostream& log);
 
 }  // namespace talus::workflow

@@ -11,6 +11,7 @@
 #include "solver/io/checkpoint.hpp"
 #include "solver/solve_observers.hpp"
 #include "solver/step/time_loop.hpp"
+#include "workflow/fos.hpp"
 
 namespace talus::workflow {
 namespace {
@@ -87,6 +88,12 @@ EnsembleModel::EnsembleModel(const Scene& scene_in, Model meshed)
   min_failed_area = kFailedAreaFraction * ground_area;
 }
 
+void EnsembleModel::enable_fos(double tolerance) {
+  require_strength(model, ground, scene.path, "--fos needs");
+  fos = reduction_problem(model, slope, ground);
+  fos_tolerance = tolerance;
+}
+
 std::vector<ParticleProperty> realisation_properties(const EnsembleModel& ensemble, std::uint64_t seed) {
   const std::vector<std::vector<double>> gaussian = ensemble.fields.gaussian(seed);
   std::vector<ParticleProperty> properties;
@@ -124,6 +131,22 @@ std::optional<RealisationRow> run_realisation(const EnsembleModel& ensemble, Mod
                             "): " + problem->message));
 
   times.fields = since(t);
+
+  // --fos: `talus fos`'s search on this realisation's fields, on this thread.
+  if (ensemble.fos) {
+    t = Clock::now();
+    solver::ReductionProblem problem = *ensemble.fos;
+    problem.model = &worker;
+    problem.stop = &stop;
+    try {
+      row.fos = search_fos(problem, ensemble.fos_tolerance, 1, nullptr).search.factor;
+    } catch (const solver::TrialsStopped&) {
+      return std::nullopt;
+    } catch (const Error& e) {
+      row.message = std::string("fos: ") + e.what();
+    }
+    times.fos = since(t);
+  }
   t = Clock::now();
 
   // The run as `talus solve` ends it, in memory, on one thread.
@@ -149,7 +172,7 @@ std::optional<RealisationRow> run_realisation(const EnsembleModel& ensemble, Mod
   if (end.kind == solver::LoopEnd::StepFailed || end.kind == solver::LoopEnd::Failed ||
       end.kind == solver::LoopEnd::BadTimeStep) {
     row.solved = false;
-    row.message = failure_message(end, sim);
+    row.message = failure_message(end, sim) + (row.message.empty() ? "" : "; " + row.message);
     return row;
   }
 

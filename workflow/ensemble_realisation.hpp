@@ -18,6 +18,7 @@
 #include "postproc/analysed_slope.hpp"
 #include "postproc/runout.hpp"
 #include "preproc/random_field/random_field.hpp"
+#include "solver/strength_reduction.hpp"
 #include "workflow/ensemble_statistics.hpp"
 
 namespace talus::workflow {
@@ -45,6 +46,13 @@ struct EnsembleModel {
   double sliding_threshold = 0;  // m
   double ground_area = 0;        // m^2, the analysed bodies' particle area
   double min_failed_area = 0;    // m^2, kFailedAreaFraction x ground_area
+
+  // --fos: each realisation's factor of safety by strength reduction, `talus fos`'s search
+  // (workflow/fos.hpp) with this bracket width. Throws talus::Error (located at the scene) when an
+  // analysed body is not Mohr-Coulomb.
+  void enable_fos(double tolerance);
+  std::optional<solver::ReductionProblem> fos;  // the slope's problem (its model is set per realisation)
+  double fos_tolerance = 0;
 };
 
 // The fields of realisation `seed` at every particle, one property per [random] table.
@@ -55,14 +63,17 @@ struct RealisationTiming {
   double fields = 0;  // drawing the fields and checking the particles' values
   double solve = 0;   // building the simulation and the time loop
   double post = 0;    // the runout, the slip surface and the time to rest
+  double fos = 0;     // --fos: the equilibrium and the search
 };
 
 // Runs realisation `index` (seed `seed`) on `worker`, a copy of ensemble.model that the caller
 // keeps for its realisations (only its properties are replaced). Returns nothing when `stop`
-// became non-zero during the solve (SIGINT, SIGTERM: the realisation is dropped, and a rerun runs
-// it again). A solve that fails (blow-up, a particle out of the domain) gives a row with
-// solved = false and the message. Throws talus::Error when the drawn values leave a particle's
-// material invalid.
+// became non-zero during the solve or the factor of safety's search (SIGINT, SIGTERM: the
+// realisation is dropped, and a rerun runs it again). A solve that fails (blow-up, a particle out
+// of the domain) gives a row with solved = false and the message; a search that finds no factor
+// (no equilibrium even with the strength raised 8 times, no failure up to F = 50) a row without
+// fos and its message. Throws talus::Error when the drawn values leave a particle's material
+// invalid.
 std::optional<RealisationRow> run_realisation(const EnsembleModel& ensemble, Model& worker, long index,
                                               std::uint64_t seed, const std::atomic<int>& stop,
                                               RealisationTiming* timing = nullptr);

@@ -49,9 +49,11 @@ bool parse(const std::string& text, double& value, bool empty_ok) {
   return end == text.c_str() + text.size() && std::isfinite(value);
 }
 
-std::optional<RealisationRow> parse_row(const std::string& line, std::size_t fields) {
+}  // namespace
+
+std::optional<RealisationRow> parse_csv_line(const std::string& line, std::size_t fields, bool fos) {
   const std::vector<std::string> f = split(line);
-  if (f.size() != kColumns + fields) return std::nullopt;
+  if (f.size() != kColumns + fields + (fos ? 1 : 0)) return std::nullopt;
   RealisationRow row;
   double index, seed, solved, failed, travel, rest, steps;
   if (!parse(f[0], index, false) || !parse(f[1], seed, false) || !parse(f[2], solved, false) ||
@@ -74,9 +76,16 @@ std::optional<RealisationRow> parse_row(const std::string& line, std::size_t fie
     if (!parse(f[13 + k], mean, true)) return std::nullopt;
     row.field_means.push_back(mean);
   }
+  if (fos) {
+    double factor;
+    if (!parse(f[13 + fields], factor, true)) return std::nullopt;
+    if (std::isfinite(factor)) row.fos = factor;
+  }
   row.message = f.back();
   return row;
 }
+
+namespace {
 
 std::string hex(std::uint64_t value) {
   std::ostringstream out;
@@ -96,13 +105,14 @@ void write_curve(postproc::JsonWriter& json, const std::string& at_key, const Cu
 
 }  // namespace
 
-std::string csv_preamble(std::uint64_t inputs, const std::vector<std::string>& fields) {
+std::string csv_preamble(std::uint64_t inputs, const std::vector<std::string>& fields, bool fos) {
   std::string header = kHeader;
   for (const std::string& name : fields) header += ",mean_" + name;
+  if (fos) header += ",fos";
   return kPreamble + hex(inputs) + "\n" + header + ",message\n";
 }
 
-std::string csv_line(const RealisationRow& r) {
+std::string csv_line(const RealisationRow& r, bool fos) {
   // The message is free text: kept on its line and in its column.
   std::string message = r.message;
   std::replace_if(message.begin(), message.end(), [](char c) { return c == ',' || c == '\n' || c == '\r'; }, ';');
@@ -112,18 +122,19 @@ std::string csv_line(const RealisationRow& r) {
        << number(r.time_to_rest) << ',' << number(r.crown_x) << ',' << number(r.tip_x) << ',' << r.steps << ','
        << number(r.simulated_time) << ',';
   for (double mean : r.field_means) line << number(mean) << ',';
+  if (fos) line << number(r.fos) << ',';
   line << message << '\n';
   return line.str();
 }
 
 std::map<std::uint64_t, RealisationRow> read_rows(const std::string& path, std::uint64_t inputs,
-                                                  const std::vector<std::string>& fields, long& dropped) {
+                                                  const std::vector<std::string>& fields, long& dropped, bool fos) {
   dropped = 0;
   std::map<std::uint64_t, RealisationRow> rows;
   std::ifstream in(path, std::ios::binary);
   if (!in) return rows;
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string preamble = csv_preamble(inputs, fields);
+  const std::string preamble = csv_preamble(inputs, fields, fos);
   if (text.compare(0, preamble.size(), preamble) != 0) return rows;
   std::size_t start = preamble.size();
   while (start < text.size()) {
@@ -132,7 +143,7 @@ std::map<std::uint64_t, RealisationRow> read_rows(const std::string& path, std::
       ++dropped;
       break;
     }
-    const auto row = parse_row(text.substr(start, end - start), fields.size());
+    const auto row = parse_csv_line(text.substr(start, end - start), fields.size(), fos);
     if (row) rows[row->seed] = *row;
     else ++dropped;
     start = end + 1;
@@ -141,12 +152,12 @@ std::map<std::uint64_t, RealisationRow> read_rows(const std::string& path, std::
 }
 
 void write_rows(const std::string& path, std::uint64_t inputs, const std::vector<std::string>& fields,
-                const std::vector<RealisationRow>& rows) {
+                const std::vector<RealisationRow>& rows, bool fos) {
   std::vector<const RealisationRow*> sorted;
   for (const auto& row : rows) sorted.push_back(&row);
   std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->seed < b->seed; });
-  std::string text = csv_preamble(inputs, fields);
-  for (const RealisationRow* row : sorted) text += csv_line(*row);
+  std::string text = csv_preamble(inputs, fields, fos);
+  for (const RealisationRow* row : sorted) text += csv_line(*row, fos);
   write_text_atomically(path, text);
 }
 
@@ -214,15 +225,63 @@ std::string ensemble_json(const EnsembleModel& ensemble, const EnsembleRun& run,
     write_curve(json, "x_m", along);
     json.end_object();
   }
+  if (run.fos_tolerance) {
+    // --fos: the factors of safety over the realisations that have one, and how the verdict F < 1
+    // compares with the runout's failure criterion.
+    std::vector<double> factors;
+    long both = 0, only_fos = 0, only_runout = 0, neither = 0;
+    for (const auto& row : rows) {
+      if (!row.fos) continue;
+      factors.push_back(*row.fos);
+      if (!row.solved) continue;
+      const bool below = *row.fos < 1;
+      (row.failed ? (below ? both : only_runout) : (below ? only_fos : neither))++;
+    }
+    json.key("fos").begin_object();
+    json.key("rule").value("each realisation's factor of safety by strength reduction, talus fos's search on its "
+                           "fields (docs/fos.md): the middle of the final bracket");
+    json.key("tolerance").value(*run.fos_tolerance);
+    json.key("count").value(static_cast<long>(factors.size()));
+    json.key("errors").value(static_cast<long>(rows.size() - factors.size()));
+    if (!factors.empty()) {
+      const double count = static_cast<double>(factors.size());
+      double mean = 0;
+      for (double f : factors) mean += f / count;
+      double square = 0;
+      for (double f : factors) square += (f - mean) * (f - mean);
+      const auto below = static_cast<std::size_t>(std::count_if(factors.begin(), factors.end(), [](double f) { return f < 1; }));
+      const Interval band = wilson_interval(below, factors.size());
+      json.key("mean").value(mean);
+      json.key("std").value(factors.size() > 1 ? std::sqrt(square / (count - 1)) : std::nan(""));
+      json.key("min").value(*std::min_element(factors.begin(), factors.end()));
+      json.key("max").value(*std::max_element(factors.begin(), factors.end()));
+      json.key("quantiles").begin_object();
+      for (const auto& [name, q] : {std::pair{"P05", 0.05}, std::pair{"P50", 0.5}, std::pair{"P95", 0.95}})
+        json.key(name).value(quantile(factors, q));
+      json.end_object();
+      json.key("below_1").value(static_cast<long>(below));
+      json.key("probability_below_1").value(static_cast<double>(below) / count);
+      json.key("probability_below_1_95").begin_array().value(band.lower).value(band.upper).end_array();
+    }
+    json.key("against_runout_criterion").begin_object();
+    json.key("failed_and_below_1").value(both);
+    json.key("failed_but_not_below_1").value(only_runout);
+    json.key("below_1_but_not_failed").value(only_fos);
+    json.key("neither").value(neither);
+    json.end_object();
+    json.end_object();
+  }
   json.key("ground_surface").value(ground);
   json.key("toe_m").begin_array().value(mirror.x(ensemble.slope.profile.toe.x())).value(ensemble.slope.profile.toe.y()).end_array();
   json.key("timing").begin_object();
+  json.key("ranks").value(static_cast<long>(run.ranks));
   json.key("jobs").value(static_cast<long>(run.jobs));
   json.key("mesh_s").value(run.mesh_seconds);
   json.key("realisations_timed").value(run.timed);
   json.key("fields_s").value(run.field_seconds);
   json.key("solve_s").value(run.solve_seconds);
   json.key("post_s").value(run.post_seconds);
+  if (run.fos_tolerance) json.key("fos_s").value(run.fos_seconds);
   json.key("record_s").value(run.record_seconds);
   json.key("wall_s").value(run.wall_seconds);
   json.key("overhead_of_solve").value(run.solve_seconds > 0 ? (run.field_seconds + run.post_seconds + run.record_seconds) / run.solve_seconds

@@ -27,7 +27,10 @@ struct RealisationRow {
   // Each [random] field's mean over the particles of its material (in the parameter's unit, the
   // scene's order): one number that says how strong this realisation's soil is.
   std::vector<double> field_means;
-  std::string message;                 // why the solve stopped (solved = false)
+  // --fos: the realisation's factor of safety by strength reduction (`talus fos`'s search on its
+  // fields); empty without --fos or when the search found none (`message` says why).
+  std::optional<double> fos;
+  std::string message;                 // why the solve stopped (solved = false), or the search
 };
 
 // The two-sided 95 % Wilson score interval of a binomial proportion of `successes` in `trials`

@@ -106,19 +106,72 @@ double narrowest_bracket(const solver::SearchSettings& s) {
 
 }  // namespace
 
-int run_fos(const FosOptions& options, std::ostream& out_log) {
-  std::ostringstream discarded;
-  std::ostream& log = options.quiet ? static_cast<std::ostream&>(discarded) : out_log;
-  const double tolerance = options.tolerance.value_or(solver::SearchSettings{}.tolerance);
+void check_fos_tolerance(double tolerance, const std::string& option) {
   // Refused at once: before, --tolerance 1e-300 ran every trial of 100 rounds and then said
   // "no bracket within 100 rounds".
   if (const double narrowest = narrowest_bracket(solver::SearchSettings{}); tolerance < narrowest) {
     std::ostringstream message;
-    message << "--tolerance: got " << tolerance << ", below " << std::setprecision(3) << narrowest
+    message << option << ": got " << tolerance << ", below " << std::setprecision(3) << narrowest
             << ", the narrowest bracket the search can resolve (factors up to " << solver::SearchSettings{}.max_factor
             << " in double precision, in at most " << solver::SearchSettings{}.max_rounds << " rounds)";
     throw Error(message.str());
   }
+}
+
+void require_strength(const Model& model, const postproc::AnalysedBodies& body, const std::string& scene_path,
+                      const std::string& who) {
+  for (int index : body.indices) {
+    const Material& material = model.materials[model.bodies[index].material];
+    if (!has_strength(material))
+      throw Error(located(scene_path, "materials." + material.name,
+                          who + " a Mohr-Coulomb material (body '" + model.bodies[index].name + "')"));
+  }
+}
+
+solver::ReductionProblem reduction_problem(const Model& model, const postproc::AnalysedSlope& slope,
+                                           const postproc::AnalysedBodies& body) {
+  solver::ReductionProblem problem;
+  problem.model = &model;
+  problem.height = slope.profile.height;
+  problem.monitor = monitoring_particle(slope, body, model);
+  problem.settings.cfl = model.run.cfl;
+  problem.pseudo_static = solver::pseudo_static_force(model.seismic, model.run.gravity, slope.mirror.active);
+  return problem;
+}
+
+FosSearch search_fos(const solver::ReductionProblem& problem, double tolerance, int workers, std::ostream* log,
+                     const std::function<void(int, const solver::TrialOutcome&)>& on_trial) {
+  FosSearch out;
+  const auto equilibrium_start = Clock::now();
+  out.equilibrium = solver::bring_to_equilibrium(problem, workers, log);
+  out.equilibrium_seconds = seconds_since(equilibrium_start);
+  if (out.equilibrium.fails_as_built && log)
+    *log << "the slope fails as built (no equilibrium at F = 1): F < 1, searched with raised strength" << std::endl;
+
+  solver::SearchSettings settings;
+  settings.tolerance = tolerance;
+  settings.stable_factor = out.equilibrium.factor;
+  settings.failed_factor = out.equilibrium.failed_factor;
+  settings.workers = workers;
+  const auto search_start = Clock::now();
+  int round = 0;
+  out.search = solver::search_factor_of_safety(
+      [&](const std::vector<double>& factors) {
+        ++round;
+        return solver::run_trials(problem, out.equilibrium, factors, workers, [&](const solver::TrialOutcome& o) {
+          if (on_trial) on_trial(round, o);
+        });
+      },
+      settings);
+  out.search_seconds = seconds_since(search_start);
+  return out;
+}
+
+int run_fos(const FosOptions& options, std::ostream& out_log) {
+  std::ostringstream discarded;
+  std::ostream& log = options.quiet ? static_cast<std::ostream&>(discarded) : out_log;
+  const double tolerance = options.tolerance.value_or(solver::SearchSettings{}.tolerance);
+  check_fos_tolerance(tolerance);
 
   const Scene scene = load_scene(options.scene_path, options.overrides);
   const fs::path out = output_folder(options.out, scene);
@@ -127,12 +180,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   const postproc::Source source{scene.path, true, "fos needs"};
   const postproc::AnalysedBodies body = postproc::analysed_bodies(model, model.body, source);
   const postproc::AnalysedSlope slope = postproc::analysed_slope(model, body, source);
-  for (int index : body.indices) {
-    const Material& material = model.materials[model.bodies[index].material];
-    if (!has_strength(material))
-      throw Error(located(scene.path, "materials." + material.name,
-                          "fos needs a Mohr-Coulomb material (body '" + model.bodies[index].name + "')"));
-  }
+  require_strength(model, body, scene.path, "fos needs");
 
   const postproc::GroundLoads loads =
       postproc::ground_loads(body, model.position, particle_load_forces(model), model.volume);
@@ -142,12 +190,7 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
   std::optional<postproc::YieldCoefficient> k_y;
   if (postproc::seismic_keys_due(model)) k_y = postproc::yield_coefficient(slope, model, body, loads);
 
-  solver::ReductionProblem problem;
-  problem.model = &model;
-  problem.height = slope.profile.height;
-  problem.monitor = monitoring_particle(slope, body, model);
-  problem.settings.cfl = scene.run.cfl;
-  problem.pseudo_static = solver::pseudo_static_force(model.seismic, model.run.gravity, slope.mirror.active);
+  const solver::ReductionProblem problem = reduction_problem(model, slope, body);
   const double period = solver::elastic_period(problem);
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   log << "talus fos: " << scene.name << ", " << model.particle_count() << " particles, " << model.triangles.size()
@@ -157,27 +200,11 @@ int run_fos(const FosOptions& options, std::ostream& out_log) {
     log << "seismic: k_h = " << model.seismic.k_h << ", k_v = " << model.seismic.k_v
         << ", Bishop's yield coefficient k_y = " << (k_y ? std::to_string(k_y->k_y) : "n/a") << std::endl;
 
-  const auto equilibrium_start = Clock::now();
-  const solver::EquilibriumState equilibrium = solver::bring_to_equilibrium(problem, threads, &log);
-  const double equilibrium_seconds = seconds_since(equilibrium_start);
-  if (equilibrium.fails_as_built)
-    log << "the slope fails as built (no equilibrium at F = 1): F < 1, searched with raised strength" << std::endl;
-
-  solver::SearchSettings settings;
-  settings.tolerance = tolerance;
-  settings.stable_factor = equilibrium.factor;
-  settings.failed_factor = equilibrium.failed_factor;
-  settings.workers = threads;
-  const auto search_start = Clock::now();
-  int round = 0;
-  const solver::SearchResult search = solver::search_factor_of_safety(
-      [&](const std::vector<double>& factors) {
-        ++round;
-        return solver::run_trials(problem, equilibrium, factors, threads,
-                                  [&](const solver::TrialOutcome& o) { print_trial(log, round, o); });
-      },
-      settings);
-  const double search_seconds = seconds_since(search_start);
+  const FosSearch found =
+      search_fos(problem, tolerance, threads, &log, [&](int round, const solver::TrialOutcome& o) { print_trial(log, round, o); });
+  const solver::EquilibriumState& equilibrium = found.equilibrium;
+  const solver::SearchResult& search = found.search;
+  const double equilibrium_seconds = found.equilibrium_seconds, search_seconds = found.search_seconds;
 
   std::optional<FosSlip> slip;
   if (search.upper_trial >= 0)

@@ -68,7 +68,37 @@ bool launched_by_ranks_parent() {
 
 void solve_on_ranks(const std::string& model_path, const std::string& folder, const StageOptions& options,
                     std::ostream& log) {
-  const std::string ranks = std::to_string(options.ranks);
+  RanksCommand command;
+  command.ranks = options.ranks;
+  command.arguments = {"solve", model_path, "--out", folder};
+  if (options.threads > 0) command.arguments.insert(command.arguments.end(), {"--threads", std::to_string(options.threads)});
+  if (options.quiet) command.arguments.push_back("--quiet");
+  if (options.checkpoint_interval > 0)
+    command.arguments.insert(command.arguments.end(), {"--checkpoint-interval", number(options.checkpoint_interval)});
+  if (options.restart) command.arguments.push_back("--restart");
+  command.folder = folder;
+  command.quiet = options.quiet;
+  command.doing = "solving";
+  command.kept = (fs::path(folder) / "results.h5").string() +
+                 " keeps the frames written before, marked incomplete; restart from a checkpoint with --restart if "
+                 "one was written";
+  run_on_ranks(command, log);
+}
+
+void take_lock_from_ranks_driver(const std::string& folder) {
+  signal(SIGPIPE, SIG_IGN);  // a terminal gone with the parent fails a write, and kills no rank
+  const std::string why = join_ranks_driver();
+  const int first = solver::mpi::first_rank_with(!why.empty());
+  if (first >= 0) {
+    std::string reason = why;
+    solver::mpi::broadcast(reason, first);
+    throw SharedError(located(folder, "", "rank " + std::to_string(first) + " " + reason + "; nothing was written"));
+  }
+}
+
+void run_on_ranks(const RanksCommand& command, std::ostream& log) {
+  const std::string ranks = std::to_string(command.ranks);
+  const std::string& folder = command.folder;
   if (!solver::mpi::built_with_mpi())
     throw Error("--ranks " + ranks +
                 ": this talus was built without MPI (it needs the Debian packages libopenmpi-dev, openmpi-bin "
@@ -82,13 +112,8 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
 
   std::vector<std::string> words{mpirun, "-n", ranks, "--oversubscribe", "--bind-to", "none", "--quiet"};
   if (geteuid() == 0) words.push_back("--allow-run-as-root");  // OpenMPI refuses root without it
-  for (const std::string& word : {self, std::string("solve"), model_path, std::string("--out"), folder})
-    words.push_back(word);
-  if (options.threads > 0) words.insert(words.end(), {"--threads", std::to_string(options.threads)});
-  if (options.quiet) words.push_back("--quiet");
-  if (options.checkpoint_interval > 0)
-    words.insert(words.end(), {"--checkpoint-interval", number(options.checkpoint_interval)});
-  if (options.restart) words.push_back("--restart");
+  words.push_back(self);
+  words.insert(words.end(), command.arguments.begin(), command.arguments.end());
   std::vector<char*> argv;
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -100,7 +125,7 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
   RanksListener listener(lock_fd);
   const pid_t driver = getpid();
 
-  if (!options.quiet) log << "solving on " << ranks << " MPI ranks (mpirun)" << std::endl;
+  if (!command.quiet) log << command.doing << " on " << ranks << " MPI ranks (mpirun)" << std::endl;
   log.flush();
   // Ctrl-C and SIGTERM are caught from here on: until mpirun has gone, this process forwards them.
   parent_signal = 0;
@@ -173,9 +198,7 @@ void solve_on_ranks(const std::string& model_path, const std::string& folder, co
     message << "--ranks " << ranks << ": rank " << killed << " (pid " << listener.pid_of(killed) << ") ";
     if (code > 128 && code < 128 + 65) message << "was killed by " << signal_name(code - 128);
     else message << "ended without a word (mpirun's status " << code << ")";
-    message << "; mpirun stopped the other ranks. " << (fs::path(folder) / "results.h5").string()
-            << " keeps the frames written before, marked incomplete; restart from a checkpoint with --restart if "
-               "one was written";
+    message << "; mpirun stopped the other ranks. " << command.kept;
     throw RanksFailed{code, message.str()};
   }
   throw RanksFailed{code, ""};

@@ -12,6 +12,7 @@
 #pragma once
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "workflow/pipeline.hpp"
 
@@ -35,5 +36,23 @@ struct RanksFailed {
 // when the ranks fail or are stopped.
 void solve_on_ranks(const std::string& model_path, const std::string& folder, const StageOptions& options,
                     std::ostream& log);
+
+// What a `--ranks` command runs: `ranks` copies of this program with `arguments` (the command and
+// its options) under mpirun, writing into `folder`, whose lock this process holds. `doing` is
+// said before they start ("solving"), unless `quiet`; `kept` ends the message of a rank killed by
+// a signal (what the folder keeps). Throws as solve_on_ranks does.
+struct RanksCommand {
+  int ranks = 2;
+  std::vector<std::string> arguments;
+  std::string folder;
+  bool quiet = false;
+  std::string doing;
+  std::string kept;
+};
+void run_on_ranks(const RanksCommand& command, std::ostream& log);
+
+// On a rank that a `--ranks` driver started: takes the folder's lock from the driver
+// (ranks_link.hpp). Collective; throws SharedError, on every rank, when a rank could not.
+void take_lock_from_ranks_driver(const std::string& folder);
 
 }  // namespace talus::workflow

@@ -168,14 +168,7 @@ void solve_stage(const std::string& model_path, const StageOptions& options, std
   std::optional<FolderLock> lock;
   std::string refused;
   if (launched_by_ranks_parent()) {
-    signal(SIGPIPE, SIG_IGN);  // a terminal gone with the parent fails a write, and kills no rank
-    const std::string why = join_ranks_driver();
-    const int first = solver::mpi::first_rank_with(!why.empty());
-    if (first >= 0) {
-      std::string reason = why;
-      solver::mpi::broadcast(reason, first);
-      throw SharedError(located(folder, "", "rank " + std::to_string(first) + " " + reason + "; nothing was written"));
-    }
+    take_lock_from_ranks_driver(folder);
   } else if (solver::mpi::rank() == 0) {
     try {
       lock.emplace(folder);
