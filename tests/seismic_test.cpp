@@ -242,20 +242,23 @@ TEST(BaseMotion, RecordBaselineCorrectionEndsAtRest) {
 class BadMotion : public ::testing::Test {
  protected:
   talus::testing::ScratchDir dir{"seismic_bad_motion"};
-  std::string scene(const std::string& motion_table, const std::string& csv) {
+  // `underside` and `run` are the keys of [boundaries.underside] and the rest of [run].
+  std::string scene(const std::string& motion_table, const std::string& csv,
+                    const std::string& underside = "type = \"fixed\"\n", const std::string& run = "") {
     std::ofstream(dir.file("motion.csv")) << csv;
     std::ofstream(dir.file("box.toml"))
         << "[scene]\nname = \"shaken\"\ngeometry = \"" << talus::testing::source_path("geometries/box_incline.geo")
-        << "\"\n[mesh]\nsize = 0.05\n[run]\nend_time = 0.1\n"
-           "[materials.elastic]\nmodel = \"linear_elastic\"\ndensity = 200.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.3\n"
+        << "\"\n[mesh]\nsize = 0.05\n[run]\nend_time = 0.1\n" << run
+        << "[materials.elastic]\nmodel = \"linear_elastic\"\ndensity = 200.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.3\n"
            "[bodies.surface]\nmaterial = \"elastic\"\nfixed = true\n[bodies.box]\nmaterial = \"elastic\"\n"
-           "[boundaries.underside]\ntype = \"fixed\"\n"
-        << motion_table;
+           "[boundaries.underside]\n"
+        << underside << motion_table;
     return dir.file("box.toml");
   }
-  std::string message(const std::string& motion_table, const std::string& csv) {
+  std::string message(const std::string& motion_table, const std::string& csv,
+                      const std::string& underside = "type = \"fixed\"\n", const std::string& run = "") {
     try {
-      load_scene(scene(motion_table, csv));
+      load_scene(scene(motion_table, csv, underside, run));
     } catch (const Error& e) {
       return e.what();
     }
@@ -291,6 +294,17 @@ TEST_F(BadMotion, NonIncreasingTimesNaNOneRowAndUnknownNamesAreRefused) {
       "[base_motion]\nboundaries = [\"underside\"]\nbase = \"compliant\"\ntype = \"sine\"\namplitude = 1.0\n"
       "frequency = 2.0\n", "");
   EXPECT_NE(compliant.find("boundary 'underside' is not absorbing"), std::string::npos) << compliant;
+  // ... and only once gravity is up: its absorbing boundaries are held fixed until then.
+  const std::string absorbing = "type = \"absorbing\"\nmaterial = \"elastic\"\n";
+  const std::string compliant_sine =
+      "[base_motion]\nboundaries = [\"underside\"]\nbase = \"compliant\"\ntype = \"sine\"\namplitude = 1.0\n"
+      "frequency = 2.0\nstart = 0.2\n";
+  EXPECT_EQ(message(compliant_sine, "", absorbing, "gravity_ramp = 0.2\n"), "");
+  const std::string early = message(compliant_sine, "", absorbing, "gravity_ramp = 0.5\n");
+  EXPECT_NE(early.find("box.toml: base_motion.start: a compliant base's motion must start at or after the end of "
+                       "run.gravity_ramp (0.5 s)"),
+            std::string::npos)
+      << early;
 }
 
 TEST_F(BadMotion, TheDriverExitsWithOneMessageAndWritesNothing) {
