@@ -104,7 +104,9 @@ void Checkpointer::write(const Simulation& sim) {
     return;
   }
   const Particles all = gather_particles(sim);
-  on_root([&] { write_checkpoint(out_dir_, fingerprints_, all, sim.time, sim.steps, loop_, writer_->sync()); });
+  on_root([&] {
+    write_checkpoint(out_dir_, fingerprints_, all, sim.time, sim.steps, loop_, writer_->sync(), sim.absorbing_reaction);
+  });
 }
 
 namespace {

@@ -121,6 +121,62 @@ TEST(PseudoStaticBishop, ZeroCoefficientsChangeNothingAndKhLowersTheFactor) {
   EXPECT_LT(shaken->factor_of_safety, 0.9 * plain->factor_of_safety);
 }
 
+// The ACADS benchmarks EX1(c) and EX1(d) (Giam and Donald 1989, ACADS slope stability programs
+// review; Slide's verification problems #3 and #4, SLOPE/W's verification manual 2.3 and 2.4):
+// the 2H:1V slope of EX1(a), 10 m high, toe (30, 25), crest (50, 35), base y = 20, in three
+// soils of gamma = 19.5 kN/m^3: soil 1 (c' = 0, phi' = 38 deg) above the line (30, 25) (50, 29)
+// (54, 31) (70, 31); soil 2 (c' = 5.3 kPa, phi' = 23 deg) below it and above the line (40, 27)
+// (52, 24) (70, 24); soil 3 (c' = 7.2 kPa, phi' = 20 deg) below that and under the toe level.
+// The interface points are those of SLOPE/W's labelled figure (as tabulated by the xslope
+// verification corpus, njones61/xslope, benchmarks/rocscience/build_problems.py, whose Bishop
+// gives Slide's factors to 0.3 %). EX1(c) is the static slope: Slide's simplified Bishop 1.405 on
+// its critical circle, centre (34.121, 43.254), R = 18.781, cutting the ground at x = 29.702 and
+// 50.991 (Slide's result as quoted by public re-verifications of the problem), SLOPE/W's 1.414,
+// the referee 1.39. EX1(d) adds a horizontal seismic coefficient k_h = 0.15 towards the toe:
+// Slide's simplified Bishop 1.016, SLOPE/W's 1.02, the referee 1.00. The slope faces -x there;
+// here it is mirrored into the canonical frame by x -> 90 - x. A published factor given to
+// three digits, from programs whose slices and searches differ from ours, is held within 2 %.
+TEST(PseudoStaticBishop, AcadsLayeredSlopeWithSeismicCoefficientMatchesPublishedFactors) {
+  const auto mirror = [](std::initializer_list<Eigen::Vector2d> points) {
+    Polyline out;
+    for (const auto& p : points) out.emplace_back(90 - p.x(), p.y());
+    return out;
+  };
+  const Polyline soil3 = mirror({{20, 20}, {70, 20}, {70, 24}, {52, 24}, {40, 27}, {30, 25}, {20, 25}});
+  const Polyline soil2 = mirror({{40, 27}, {52, 24}, {70, 24}, {70, 31}, {54, 31}, {50, 29}});
+  const Polyline soil1 = mirror({{30, 25}, {40, 27}, {50, 29}, {54, 31}, {70, 31}, {70, 35}, {50, 35}});
+  const SlopeProfile profile = slope_profile(std::vector<Polyline>{soil1, soil2, soil3});
+  ASSERT_EQ(profile.crest, Eigen::Vector2d(40, 35));
+  ASSERT_EQ(profile.toe, Eigen::Vector2d(60, 25));
+  ASSERT_EQ(profile.base_y, 20);
+  const LayeredGround ground({GroundLayer{{soil1}, {0, 38, 19.5e3}, 0}, GroundLayer{{soil2}, {5.3e3, 23, 19.5e3}, 0},
+                              GroundLayer{{soil3}, {7.2e3, 20, 19.5e3}, 0}});
+
+  // EX1(c) on Slide's critical circle: the same cut points, and the same factor.
+  const Circle published{{90 - 34.121, 43.254}, 18.781};
+  const auto on_published = bishop_factor_of_safety(profile, ground, published);
+  ASSERT_TRUE(on_published);
+  EXPECT_NEAR(90 - on_published->x_exit, 29.702, 2e-3);
+  EXPECT_NEAR(90 - on_published->x_entry, 50.991, 2e-3);
+  EXPECT_NEAR(on_published->factor_of_safety, 1.405, 0.02 * 1.405);
+
+  // The critical circles of the search, static and with k_h = 0.15.
+  const auto still = bishop_search(profile, ground);
+  const auto shaken = bishop_search(profile, PseudoStatic(ground, 0.15, 0));
+  ASSERT_TRUE(still && shaken);
+  std::printf("ACADS EX1(c): on Slide's circle F = %.4f (Slide 1.405); search F = %.4f (Slide 1.405, SLOPE/W 1.414, "
+              "referee 1.39), centre (%.3f, %.3f) R %.3f in the published frame\n",
+              on_published->factor_of_safety, still->factor_of_safety, 90 - still->circle.centre.x(),
+              still->circle.centre.y(), still->circle.radius);
+  std::printf("ACADS EX1(d), k_h = 0.15: search F = %.4f (Slide 1.016, SLOPE/W 1.02, referee 1.00), centre (%.3f, %.3f) "
+              "R %.3f in the published frame, cutting the ground at x = %.3f and %.3f\n",
+              shaken->factor_of_safety, 90 - shaken->circle.centre.x(), shaken->circle.centre.y(),
+              shaken->circle.radius, 90 - shaken->x_exit, 90 - shaken->x_entry);
+  EXPECT_NEAR(still->factor_of_safety, 1.405, 0.02 * 1.405);
+  EXPECT_NEAR(shaken->factor_of_safety, 1.016, 0.02 * 1.016);
+  EXPECT_NEAR(shaken->factor_of_safety, 1.00, 0.03);
+}
+
 // Newmark's integration against the closed form of a constant push: a_drive = a for T seconds
 // then 0 gives s = g' (a - a_c) T^2 / 2 + the deceleration phase's v^2 / (2 g' a_c).
 TEST(Newmark, ConstantPulseMatchesItsClosedForm) {
@@ -186,20 +242,23 @@ TEST(BaseMotion, RecordBaselineCorrectionEndsAtRest) {
 class BadMotion : public ::testing::Test {
  protected:
   talus::testing::ScratchDir dir{"seismic_bad_motion"};
-  std::string scene(const std::string& motion_table, const std::string& csv) {
+  // `underside` and `run` are the keys of [boundaries.underside] and the rest of [run].
+  std::string scene(const std::string& motion_table, const std::string& csv,
+                    const std::string& underside = "type = \"fixed\"\n", const std::string& run = "") {
     std::ofstream(dir.file("motion.csv")) << csv;
     std::ofstream(dir.file("box.toml"))
         << "[scene]\nname = \"shaken\"\ngeometry = \"" << talus::testing::source_path("geometries/box_incline.geo")
-        << "\"\n[mesh]\nsize = 0.05\n[run]\nend_time = 0.1\n"
-           "[materials.elastic]\nmodel = \"linear_elastic\"\ndensity = 200.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.3\n"
+        << "\"\n[mesh]\nsize = 0.05\n[run]\nend_time = 0.1\n" << run
+        << "[materials.elastic]\nmodel = \"linear_elastic\"\ndensity = 200.0\nyoungs_modulus = 1.0e6\npoisson_ratio = 0.3\n"
            "[bodies.surface]\nmaterial = \"elastic\"\nfixed = true\n[bodies.box]\nmaterial = \"elastic\"\n"
-           "[boundaries.underside]\ntype = \"fixed\"\n"
-        << motion_table;
+           "[boundaries.underside]\n"
+        << underside << motion_table;
     return dir.file("box.toml");
   }
-  std::string message(const std::string& motion_table, const std::string& csv) {
+  std::string message(const std::string& motion_table, const std::string& csv,
+                      const std::string& underside = "type = \"fixed\"\n", const std::string& run = "") {
     try {
-      load_scene(scene(motion_table, csv));
+      load_scene(scene(motion_table, csv, underside, run));
     } catch (const Error& e) {
       return e.what();
     }
@@ -235,6 +294,17 @@ TEST_F(BadMotion, NonIncreasingTimesNaNOneRowAndUnknownNamesAreRefused) {
       "[base_motion]\nboundaries = [\"underside\"]\nbase = \"compliant\"\ntype = \"sine\"\namplitude = 1.0\n"
       "frequency = 2.0\n", "");
   EXPECT_NE(compliant.find("boundary 'underside' is not absorbing"), std::string::npos) << compliant;
+  // ... and only once gravity is up: its absorbing boundaries are held fixed until then.
+  const std::string absorbing = "type = \"absorbing\"\nmaterial = \"elastic\"\n";
+  const std::string compliant_sine =
+      "[base_motion]\nboundaries = [\"underside\"]\nbase = \"compliant\"\ntype = \"sine\"\namplitude = 1.0\n"
+      "frequency = 2.0\nstart = 0.2\n";
+  EXPECT_EQ(message(compliant_sine, "", absorbing, "gravity_ramp = 0.2\n"), "");
+  const std::string early = message(compliant_sine, "", absorbing, "gravity_ramp = 0.5\n");
+  EXPECT_NE(early.find("box.toml: base_motion.start: a compliant base's motion must start at or after the end of "
+                       "run.gravity_ramp (0.5 s)"),
+            std::string::npos)
+      << early;
 }
 
 TEST_F(BadMotion, TheDriverExitsWithOneMessageAndWritesNothing) {

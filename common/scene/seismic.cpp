@@ -257,6 +257,12 @@ void read_base_motion(TableReader& top, Scene& scene) {
     r.fail("type", "unknown type '" + echoed(type) + "' (expected sine, or record with acceleration = FILE)");
   }
   m.start = r.number("start", 0.0, 0, kInf);
+  if (m.compliant && m.start < scene.run.gravity_ramp) {
+    std::ostringstream message;
+    message << "a compliant base's motion must start at or after the end of run.gravity_ramp (" << scene.run.gravity_ramp
+            << " s): until then its absorbing boundaries are held fixed while gravity rises";
+    r.fail("start", message.str());
+  }
   r.finish();
 }
 

@@ -1,5 +1,6 @@
 #include "solver/io/checkpoint.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -112,11 +113,12 @@ void write_checkpoint(const std::string& out_dir, const Model& model, const Simu
 
 void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Simulation& sim,
                       const LoopState& loop, const ResultsPosition& results) {
-  write_checkpoint(out_dir, fingerprints, sim.particles, sim.time, sim.steps, loop, results);
+  write_checkpoint(out_dir, fingerprints, sim.particles, sim.time, sim.steps, loop, results, sim.absorbing_reaction);
 }
 
 void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Particles& P, double time,
-                      long steps, const LoopState& loop, const ResultsPosition& results) {
+                      long steps, const LoopState& loop, const ResultsPosition& results,
+                      const std::vector<Vec2>& absorbing_reaction) {
   const std::string path = checkpoint_path(out_dir);
   h5::write_atomically(path, [&](const h5::File& file) {
     write_format_tag(file, "talus-checkpoint", kCheckpointFormatVersion);
@@ -131,6 +133,11 @@ void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprin
     P.for_each_field([&](const FieldInfo& field, const auto& column) {
       if (field.roles & kCheckpointed) write_column(file, std::string("particles/") + field.name, column, n);
     });
+    if (!absorbing_reaction.empty()) {
+      std::vector<double> flat;
+      for (const Vec2& r : absorbing_reaction) flat.push_back(r.x()), flat.push_back(r.y());
+      h5::write(file, "absorbing_reaction", flat, {absorbing_reaction.size(), 2});
+    }
 
     h5::create_group(file, kLoopGroup);
     h5::set_attribute(file, kLoopGroup, "next_output", loop.next_output);
@@ -221,6 +228,14 @@ void read_checkpoint(const std::string& out_dir, const Model& model, Simulation&
   loop.budget_limit = h5::get_double(file, kLoopGroup, "budget_limit");
   if (!std::isfinite(loop.next_output) || !(loop.next_output > sim.time) || !(loop.next_checkpoint > sim.time))
     throw Error(located(path, "loop@next_output, loop@next_checkpoint", "not ahead of the checkpoint's time"));
+  sim.absorbing_reaction.clear();
+  if (h5::exists(file, "absorbing_reaction")) {
+    const std::vector<double> flat = h5::read_doubles(file, "absorbing_reaction");
+    const std::size_t expected = 2 * sim.config.absorbing.node.size() * sim.scratch.grids.fields.size();
+    if (flat.size() != expected || !std::all_of(flat.begin(), flat.end(), [](double v) { return std::isfinite(v); }))
+      throw Error(located(path, "absorbing_reaction", "expected " + std::to_string(expected) + " finite values"));
+    for (std::size_t k = 0; k + 1 < flat.size(); k += 2) sim.absorbing_reaction.emplace_back(flat[k], flat[k + 1]);
+  }
   results.frames = static_cast<long>(h5::get_int(file, kLoopGroup, "results_frames"));
   results.history_rows = static_cast<long>(h5::get_int(file, kLoopGroup, "results_history_rows"));
 }

@@ -6,8 +6,10 @@
 // The file holds the particles in the solver's current (sorted) order with every checkpointed
 // field of the registry (particles.hpp), the simulation's time and step count, the loop's own
 // state (next output and checkpoint times, the peak kinetic energy, the rest timer, the energy
-// budget), how far results.h5 had been written, and the model's fingerprints. It is written to checkpoint.h5.tmp and renamed, so a checkpoint
-// is either the previous one or the new one, never half of either.
+// budget), how far results.h5 had been written, the model's fingerprints, and the static
+// reactions of absorbing boundaries once recorded (absorbing_reaction [R, 2], absent before;
+// solver/boundary/absorbing.hpp). It is written to checkpoint.h5.tmp and renamed, so a
+// checkpoint is either the previous one or the new one, never half of either.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -49,7 +51,8 @@ void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprin
 // The same from particles gathered off several ranks (domain.hpp, gather_particles): a
 // checkpoint of N ranks restarts on any number of ranks.
 void write_checkpoint(const std::string& out_dir, const Fingerprints& fingerprints, const Particles& particles,
-                      double time, long steps, const LoopState& loop, const ResultsPosition& results);
+                      double time, long steps, const LoopState& loop, const ResultsPosition& results,
+                      const std::vector<Vec2>& absorbing_reaction = {});
 
 // Overwrites the particles, time and step count of `sim` (built by make_simulation from the
 // same model) with the checkpoint's, and fills `loop` and `results`. Throws talus::Error when

@@ -15,7 +15,8 @@
 namespace talus::solver {
 
 // Set up once from the model; read-only while stepping. (The strength-reduction workflow
-// changes materials, damping and the gravity ramp between runs, never within a step.)
+// changes materials, damping and the gravity ramp between runs, never within a step; the
+// absorbing nodes' constraint kinds are Fixed until the end of the gravity ramp, absorbing.hpp.)
 struct Config {
   Mesh mesh;
   Constraints constraints;
@@ -92,6 +93,11 @@ struct Scratch {
   long bad_particle = -1;   // a particle with a non-finite state (the largest index)
   long lost_particle = -1;  // a particle that left the domain (the largest index)
   bool failed_elsewhere = false;  // on several ranks: the step failed on another rank
+  // Absorbing boundaries, at the step that records their static reactions (absorbing.hpp): each
+  // reaction's share of the model's momentum rate (its node's length; 0 without mass), and that
+  // the share is still to be taken out.
+  std::vector<double> absorbing_weight;
+  bool absorbing_balance = false;
 };
 
 struct Simulation {
@@ -102,6 +108,13 @@ struct Simulation {
   long reorders = 0;  // times the particles were re-ordered (indices change then)
   Scratch scratch;
   Domain domain;  // this rank's share of a run on several MPI ranks (domain.hpp); one rank: empty
+  // Absorbing boundaries (solver/boundary/absorbing.hpp). Their static reactions, per field and
+  // absorbing node (field-major), recorded when the dashpots come on at the end of
+  // run.gravity_ramp and applied from then on (checkpointed); empty before.
+  std::vector<Vec2> absorbing_reaction;
+  // While gravity rises the absorbing nodes are held fixed: their own constraint kinds, kept
+  // here to be given back at the switch (empty: not held).
+  std::vector<Constraint> absorbing_kind;
 };
 
 // Builds the simulation from a model: mesh geometry, constraints, materials, particles sorted

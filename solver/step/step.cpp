@@ -62,11 +62,12 @@ bool step(Simulation& sim, double dt) {
                     s.buffers, threads);
   if (distributed) exchange_grid_sums(sim);
   fold_ghosts(c.constraints, s.grids);
+  if (!c.absorbing.empty()) apply_static_reactions(sim);  // held fixed, then their reactions: absorbing.hpp
   clock.lap(PhaseTimes::ToGrid);
 
   // (A.9): a_i = f_i / m_i, constrained by the boundary conditions; contact corrects it.
   update_grid_accelerations(c.constraints, c.field_fixed, c.damping, dt, s.grids, threads);
-  if (!c.absorbing.empty()) apply_dashpots(c.absorbing, c.base_motion, sim.time, dt, s.grids);  // absorbing.hpp
+  if (!c.absorbing.empty()) apply_dashpots(sim, dt);  // absorbing.hpp
   clock.lap(PhaseTimes::GridAcceleration);
   if (c.contact) {
     // The masses are those of this P2G; the remap (A.11) reuses them, and so the list.
