@@ -34,6 +34,7 @@ struct Options {
   std::string out = "out/bench";
   std::vector<std::string> scenes = {"spring_mass", "box_incline", "slope"};
   std::vector<std::string> overrides;  // --set KEY=VALUE, for every run (before the setting's own)
+  bool bspline = false;  // --family bspline: quadratic B-splines on the lattice, particle integration
 };
 
 // The settings of each scene, cheapest first in each mode.

@@ -53,6 +53,10 @@ Row measure(const std::string& scene, const Setting& setting, const Options& opt
   row.setting = setting;
   const std::string file = bench::scene_path(scene);
   std::vector<std::string> overrides = options.overrides;
+  if (options.bspline) {  // the spring-mass scene's mixed integration is for linear triangles
+    for (const char* o : {"run.shape_functions=bspline", "mesh.pattern=grid", "run.integration=material_points"})
+      overrides.push_back(o);
+  }
   for (std::string& o : bench::particles_per_cell_overrides(file, setting.particles_per_cell))
     overrides.push_back(std::move(o));
   char value[64];
