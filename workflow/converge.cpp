@@ -112,21 +112,24 @@ struct Study {
   std::vector<TransferLevel> transfers;                     // --transfers, at the finest size
 };
 
-// The transfers' spread of metric m at the finest size: max - min, NaN when any is missing.
-double transfer_spread(const Study& study, std::size_t m) {
-  double low = std::numeric_limits<double>::infinity(), high = -low;
+// The transfers' lowest and highest value of metric m at the finest size; NaNs when any is missing.
+struct TransferRange {
+  double low = kNaN, high = kNaN, mean = kNaN;
+  double spread() const { return high - low; }
+  double spread_percent() const { return 100 * spread() / std::abs(mean); }
+};
+
+TransferRange transfer_range(const Study& study, std::size_t m) {
+  TransferRange range;
+  if (study.transfers.empty()) return range;
+  double low = std::numeric_limits<double>::infinity(), high = -low, sum = 0;
   for (const auto& t : study.transfers) {
-    if (!std::isfinite(t.run.values[m])) return kNaN;
+    if (!std::isfinite(t.run.values[m])) return range;
     low = std::min(low, t.run.values[m]);
     high = std::max(high, t.run.values[m]);
+    sum += t.run.values[m];
   }
-  return study.transfers.empty() ? kNaN : high - low;
-}
-
-double transfer_mean(const Study& study, std::size_t m) {
-  double sum = 0;
-  for (const auto& t : study.transfers) sum += t.run.values[m];
-  return sum / static_cast<double>(study.transfers.size());
+  return {low, high, sum / static_cast<double>(study.transfers.size())};
 }
 
 // Relative change between the two finest levels, |f1 - f2| / |f1|.
@@ -206,17 +209,12 @@ std::string markdown(const Study& study, const std::string& scene_path) {
     for (std::size_t m = 0; m < metrics.size(); ++m) {
       if (!std::isfinite(study.levels.back().values[m])) continue;
       md << "| " << metrics[m].name << " (" << metrics[m].unit << ") |";
-      double low = std::numeric_limits<double>::infinity(), high = -low;
-      for (const auto& t : study.transfers) {
-        md << " " << fixed(t.run.values[m], 3) << " |";
-        low = std::min(low, t.run.values[m]);
-        high = std::max(high, t.run.values[m]);
-      }
-      const double spread = transfer_spread(study, m);
+      for (const auto& t : study.transfers) md << " " << fixed(t.run.values[m], 3) << " |";
+      const TransferRange range = transfer_range(study, m);
       const auto& g = study.convergence[m];
-      md << " " << fixed(spread, 3) << " | " << fixed(100 * spread / std::abs(transfer_mean(study, m)), 1) << " % | "
+      md << " " << fixed(range.spread(), 3) << " | " << fixed(range.spread_percent(), 1) << " % | "
          << (g ? fixed(g->band, 3) : std::string("-")) << " | ";
-      if (g && std::isfinite(spread)) md << fixed(low - g->band, 3) << " .. " << fixed(high + g->band, 3);
+      if (g && std::isfinite(range.spread())) md << fixed(range.low - g->band, 3) << " .. " << fixed(range.high + g->band, 3);
       else md << "-";
       md << " |\n";
     }
@@ -261,9 +259,8 @@ void print_table(const Study& study, std::ostream& log) {
     if (!std::isfinite(study.levels.back().values[m])) continue;
     log << "  " << std::left << std::setw(22) << (metrics[m].name + " (" + metrics[m].unit + ")") << std::right;
     for (const auto& t : study.transfers) log << std::setw(10) << fixed(t.run.values[m], 3);
-    const double spread = transfer_spread(study, m);
-    log << std::setw(10) << fixed(spread, 3) << " (" << fixed(100 * spread / std::abs(transfer_mean(study, m)), 1)
-        << " %)\n";
+    const TransferRange range = transfer_range(study, m);
+    log << std::setw(10) << fixed(range.spread(), 3) << " (" << fixed(range.spread_percent(), 1) << " %)\n";
   }
 }
 
@@ -277,8 +274,8 @@ void write_transfers_csv(const Study& study, const std::string& path) {
     if (!std::isfinite(study.levels.back().values[m])) continue;
     csv << metrics[m].name << "," << metrics[m].unit;
     for (const auto& t : study.transfers) csv << "," << csv_number(t.run.values[m]);
-    const double spread = transfer_spread(study, m);
-    csv << "," << csv_number(spread) << "," << csv_number(100 * spread / std::abs(transfer_mean(study, m))) << ","
+    const TransferRange range = transfer_range(study, m);
+    csv << "," << csv_number(range.spread()) << "," << csv_number(range.spread_percent()) << ","
         << (study.convergence[m] ? csv_number(study.convergence[m]->band) : "") << "\n";
   }
   write_text_atomically(path, csv.str());
@@ -331,7 +328,6 @@ std::vector<std::string> transfer_overrides(const std::string& name) {
   throw Error("converge: --transfers: unknown transfer '" + name +
               "' (expected flip, apic, pic_blend, xpic (order 5) or xpicM with M from 1 to 100)");
 }
-
 
 constexpr const char* kNoConvergeMetrics =
     "converge follows runout, crest retreat, travel angle, failed area and the slip circle: the scene's metrics "
