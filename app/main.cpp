@@ -140,7 +140,11 @@ workflow::ConvergeOptions converge_options(const cli::Arguments& args) {
   if (args.transfers) {
     std::stringstream list(*args.transfers);
     for (std::string name; std::getline(list, name, ',');) {
-      workflow::transfer_overrides(name);  // an unknown name stops here, before anything runs
+      try {
+        transfer_overrides(name);  // an unknown name stops here, before anything runs
+      } catch (const Error& error) {
+        throw Error(std::string("converge: --transfers: ") + error.what());
+      }
       options.transfers.push_back(name);
     }
     if (options.transfers.empty()) throw Error("--transfers: expected a comma-separated list such as flip,apic,xpic");

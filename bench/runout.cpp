@@ -40,25 +40,27 @@ struct TransferChoice {
   int order = 1;
 };
 
+// The overrides of one --transfers name (common/scene, transfer_overrides) and the transfer and
+// XPIC order they set, for the vibration, which builds its model here.
 TransferChoice transfer_choice(const std::string& name) {
   TransferChoice t{name, {}, Transfer::Flip, 1};
-  if (name.rfind("xpic", 0) == 0) {
-    t.transfer = Transfer::Xpic;
-    t.order = std::atoi(name.c_str() + 4);
-    if (t.order < 1) throw Error("--transfers: expected xpicM with M >= 1, got " + name);
-    t.overrides = {"run.transfer=xpic", "run.xpic_order=" + std::to_string(t.order)};
-  } else if (const auto transfer = transfer_from_name(name)) {
-    t.transfer = *transfer;
-    t.overrides = {"run.transfer=" + name};
-  } else {
-    throw Error("--transfers: unknown transfer '" + name + "' (flip, pic_blend, xpicM, apic)");
+  try {
+    t.overrides = transfer_overrides(name);
+  } catch (const Error& error) {
+    throw Error(std::string("--transfers: ") + error.what());
+  }
+  for (const std::string& o : t.overrides) {
+    const std::string value = o.substr(o.find('=') + 1);
+    if (o.rfind("run.transfer=", 0) == 0) t.transfer = *transfer_from_name(value);
+    if (o.rfind("run.xpic_order=", 0) == 0) t.order = std::stoi(value);
   }
   return t;
 }
 
 struct Options {
   std::vector<std::string> parts = {"column", "rods", "slope", "vibration"};
-  // apic needs the B-spline family: --set run.shape_functions=bspline --set mesh.pattern=grid.
+  // apic needs B-splines (--set run.shape_functions=bspline --set mesh.pattern=grid) or CPDI
+  // (--set run.shape_functions=cpdi).
   std::vector<std::string> transfers = {"flip", "pic_blend", "xpic2", "xpic5"};
   std::vector<double> aspect = {0.5, 3};
   std::vector<double> rods_aspect = {1, 2, 4};
@@ -292,7 +294,8 @@ int usage(const char* self, int status) {
                "usage: %s [--only column,rods,slope,vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
                "          [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
                "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic (apic with\n"
-               "               --set run.shape_functions=bspline --set mesh.pattern=grid)\n"
+               "               --set run.shape_functions=bspline --set mesh.pattern=grid, or\n"
+               "               --set run.shape_functions=cpdi)\n"
                "  --aspect     column aspect ratios (default 0.5,3 for column, 1,2,4 for rods)\n"
                "  --sizes      slope element sizes in m (default 0.5,0.25)\n"
                "  --set        a scene override for every column and slope run\n",

@@ -259,7 +259,12 @@ std::vector<Row> rows() {
        {"mesh.pattern", "unknown pattern 'cross'", "expected delaunay, crossed or grid"}},
       {"unknown shape functions",
        [](auto d) { return scene_change(d, "end_time = 0.01", "end_time = 0.01\nshape_functions = \"cubic\""); },
-       {"run.shape_functions", "unknown shape functions 'cubic'", "linear or bspline"}},
+       {"run.shape_functions", "unknown shape functions 'cubic'", "linear, bspline or cpdi"}},
+      {"CPDI with mixed integration",
+       [](auto d) {
+         return scene_change(d, "end_time = 0.01", "end_time = 0.01\nshape_functions = \"cpdi\"\nintegration = \"mixed\"");
+       },
+       {"run.integration", "\"mixed\" is for linear triangles", "CPDI"}},
       {"B-splines on Delaunay triangles",
        [](auto d) {
          return scene_change(d, "end_time = 0.01", "end_time = 0.01\nshape_functions = \"bspline\"") +

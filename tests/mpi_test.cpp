@@ -73,6 +73,15 @@ TEST_F(Mpi, SlopeFramesOnTwoAndThreeRanksMatchOneRank) {
   expect_same_frames("slope.toml", "--set mesh.size=0.7 --set run.end_time=2.0", 1e-10);
 }
 
+TEST_F(Mpi, CpdiSlopeFramesOnTwoAndThreeRanksMatchOneRank) {
+  // The same with CPDI: a particle's domain reaches the nodes of the elements around its own,
+  // which the halo holds (a missing node would give differences of the velocities themselves),
+  // and its isolated-particle test reads node masses summed over the ranks. Measured: 2 ranks
+  // within 1e-10 of one rank's frames, 3 ranks 1.3e-6 m/s at t = 2 s (a discrete choice, not
+  // found yet, that round-off flips; docs/shape-functions.md).
+  expect_same_frames("slope.toml", "--set mesh.size=0.7 --set run.end_time=2.0 --set run.shape_functions=cpdi", 1e-5);
+}
+
 TEST_F(Mpi, FrictionalBoxFramesOnTwoAndThreeRanksMatchOneRank) {
   // Two bodies in frictional contact: the block slides across the partitions, its particles
   // migrate and the ranks repartition. (Before the fixed particles' runs were rebuilt after a

@@ -358,7 +358,7 @@ TEST(PreprocCli, EveryBadInputNamesItsFileAndItem) {
       {"xpic_order without XPIC", [](BlockScene&) {}, "--set run.transfer=apic --set run.xpic_order=3",
        {"block.toml", "run.xpic_order", "xpic"}},
       {"APIC on linear triangles", [](BlockScene&) {}, "--set run.transfer=apic",
-       {"block.toml", "run.transfer", "apic", "bspline"}},
+       {"block.toml", "run.transfer", "apic", "bspline", "cpdi"}},
       {"XPIC of order 0", [](BlockScene&) {}, "--set run.transfer=xpic --set run.xpic_order=0",
        {"block.toml", "run.xpic_order", "[1, 100]"}},
       {"unknown integration", [](BlockScene&) {}, "--set run.integration=gauss",

@@ -317,18 +317,6 @@ bool is_transfer_key(const std::string& text) {
 
 }  // namespace
 
-std::vector<std::string> transfer_overrides(const std::string& name) {
-  if (name == "flip" || name == "apic" || name == "pic_blend") return {"run.transfer=" + name};
-  if (name == "xpic") return {"run.transfer=xpic", "run.xpic_order=5"};
-  if (name.rfind("xpic", 0) == 0 && name.size() > 4 && name.size() <= 7 &&
-      name.find_first_not_of("0123456789", 4) == std::string::npos) {
-    const int order = std::stoi(name.substr(4));
-    if (order >= 1 && order <= 100) return {"run.transfer=xpic", "run.xpic_order=" + std::to_string(order)};
-  }
-  throw Error("converge: --transfers: unknown transfer '" + name +
-              "' (expected flip, apic, pic_blend, xpic (order 5) or xpicM with M from 1 to 100)");
-}
-
 constexpr const char* kNoConvergeMetrics =
     "converge follows runout, crest retreat, travel angle, failed area and the slip circle: the scene's metrics "
     "give none of them (add \"runout\" or \"failure_surface\")";
@@ -398,7 +386,11 @@ int run_converge(const ConvergeOptions& options, std::ostream& log) {
     TransferLevel t;
     t.name = name;
     t.overrides = with_size(without_transfer, finest);
-    for (const auto& o : transfer_overrides(name)) t.overrides.push_back(o);
+    try {
+      for (const auto& o : transfer_overrides(name)) t.overrides.push_back(o);
+    } catch (const Error& error) {
+      throw Error(std::string("converge: --transfers: ") + error.what());
+    }
     try {
       t.reused = same_transfer(load_scene(options.scene_path, t.overrides).run, own);
     } catch (const Error& error) {

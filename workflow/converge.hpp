@@ -28,10 +28,6 @@ struct ConvergeOptions {
   std::vector<std::string> transfers;
 };
 
-// A transfer of --transfers as --set overrides: flip, apic, pic_blend, xpic (order 5) or xpicM.
-// Throws talus::Error for another name.
-std::vector<std::string> transfer_overrides(const std::string& name);
-
 // The metrics the study follows: metrics.json key (slip_circle: its r_m), name, unit.
 struct ConvergeMetric {
   std::string key, name, unit;

@@ -58,7 +58,7 @@ void read_setting(const h5::File& file, const std::string& group, const char* na
   read_named(file, group, name, value, transfer_from_name, "transfer", "flip, pic_blend, xpic or apic");
 }
 void read_setting(const h5::File& file, const std::string& group, const char* name, ShapeFunctions& value) {
-  read_named(file, group, name, value, shape_functions_from_name, "shape functions", "linear or bspline");
+  read_named(file, group, name, value, shape_functions_from_name, "shape functions", "linear, bspline or cpdi");
 }
 template <class Integer, class = std::enable_if_t<std::is_integral_v<Integer>>>
 void read_setting(const h5::File& file, const std::string& group, const char* name, Integer& value) {

@@ -40,12 +40,27 @@ std::optional<Transfer> transfer_from_name(const std::string& name) {
   return std::nullopt;
 }
 
+std::vector<std::string> transfer_overrides(const std::string& name) {
+  if (name == "flip" || name == "apic" || name == "pic_blend") return {"run.transfer=" + name};
+  if (name == "xpic") return {"run.transfer=xpic", "run.xpic_order=5"};
+  if (name.rfind("xpic", 0) == 0 && name.size() > 4 && name.size() <= 7 &&
+      name.find_first_not_of("0123456789", 4) == std::string::npos) {
+    const int order = std::stoi(name.substr(4));
+    if (order >= 1 && order <= 100) return {"run.transfer=xpic", "run.xpic_order=" + std::to_string(order)};
+  }
+  throw Error("unknown transfer '" + name + "' (expected flip, apic, pic_blend, xpic (order 5) or xpicM with M from 1 to 100)");
+}
+
 const char* shape_functions_name(ShapeFunctions family) {
-  return family == ShapeFunctions::QuadraticBspline ? "bspline" : "linear";
+  switch (family) {
+    case ShapeFunctions::QuadraticBspline: return "bspline";
+    case ShapeFunctions::Cpdi: return "cpdi";
+    default: return "linear";
+  }
 }
 
 std::optional<ShapeFunctions> shape_functions_from_name(const std::string& name) {
-  for (ShapeFunctions f : {ShapeFunctions::Linear, ShapeFunctions::QuadraticBspline})
+  for (ShapeFunctions f : {ShapeFunctions::Linear, ShapeFunctions::QuadraticBspline, ShapeFunctions::Cpdi})
     if (name == shape_functions_name(f)) return f;
   return std::nullopt;
 }

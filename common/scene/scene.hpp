@@ -156,8 +156,10 @@ enum class Transfer {
 
 // The shape functions that interpolate between particles and nodes (docs/transfer.md,
 // "Shape functions"): the linear triangles of the background mesh (the seed's), or quadratic
-// B-splines on the lattice of the grid pattern (mesh.pattern = "grid").
-enum class ShapeFunctions { Linear, QuadraticBspline };
+// B-splines on the lattice of the grid pattern (mesh.pattern = "grid"), or the linear triangles
+// averaged over each particle's triangular domain, whose corners move with the grid (CPDI,
+// docs/shape-functions.md, "CPDI").
+enum class ShapeFunctions { Linear, QuadraticBspline, Cpdi };
 
 struct RunSettings {
   double end_time = 1;          // s
@@ -254,6 +256,11 @@ struct Scene {
 // "flip", "pic_blend", "xpic", "apic"; and back (nullopt for an unknown name).
 const char* transfer_name(Transfer transfer);
 std::optional<Transfer> transfer_from_name(const std::string& name);
+// A transfer named on a command line (talus converge --transfers, talus bench runout
+// --transfers) as scene overrides: flip, apic, pic_blend, xpic (XPIC(5), the order the docs
+// recommend) or xpicM (M from 1 to 100). Throws talus::Error ("unknown transfer ...") for
+// another name.
+std::vector<std::string> transfer_overrides(const std::string& name);
 // "linear", "bspline"; and back (nullopt for an unknown name).
 const char* shape_functions_name(ShapeFunctions family);
 std::optional<ShapeFunctions> shape_functions_from_name(const std::string& name);

@@ -92,11 +92,11 @@ void read_run(TableReader& top, Scene& scene) {
   if (rs.transfer == Transfer::Xpic) rs.xpic_order = static_cast<int>(run.integer("xpic_order", rs.xpic_order, 1, 100));
   const std::string shape_functions = run.text("shape_functions", "linear");
   if (const auto family = shape_functions_from_name(shape_functions)) rs.shape_functions = *family;
-  else run.fail("shape_functions", "unknown shape functions '" + echoed(shape_functions) + "' (expected linear or bspline)");
+  else run.fail("shape_functions", "unknown shape functions '" + echoed(shape_functions) + "' (expected linear, bspline or cpdi)");
   const bool bspline = rs.shape_functions == ShapeFunctions::QuadraticBspline;
-  if (rs.transfer == Transfer::Apic && !bspline)
-    run.fail("transfer", "\"apic\" needs run.shape_functions = \"bspline\": on linear triangles it throws particles "
-                         "out of every shipped scene (docs/transfer.md, \"APIC\")");
+  if (rs.transfer == Transfer::Apic && !bspline && rs.shape_functions != ShapeFunctions::Cpdi)
+    run.fail("transfer", "\"apic\" needs run.shape_functions = \"bspline\" or \"cpdi\": on plain linear triangles it "
+                         "throws particles out of every shipped scene (docs/transfer.md, \"APIC\")");
   if (bspline && scene.mesh.pattern != MeshPattern::Grid)
     run.fail("shape_functions", std::string("\"bspline\" takes its nodes from the grid pattern's lattice, and mesh.pattern is \"") +
                                     (scene.mesh.pattern == MeshPattern::Crossed ? "crossed" : "delaunay") +
@@ -105,6 +105,8 @@ void read_run(TableReader& top, Scene& scene) {
   const std::string integration = run.text("integration", "material_points");
   if (bspline && integration == "mixed")
     run.fail("integration", "\"mixed\" is for linear triangles; B-splines integrate at the particles");
+  if (rs.shape_functions == ShapeFunctions::Cpdi && integration == "mixed")
+    run.fail("integration", "\"mixed\" is for linear triangles; CPDI integrates over the particles' domains");
   if (integration != "material_points" && integration != "mixed")
     run.fail("integration", "unknown integration '" + echoed(integration) + "' (expected material_points or mixed)");
   if (integration != "mixed" && run.has("full_cell_fill"))

@@ -103,6 +103,18 @@ void remap_grid_velocities(const Constraints& constraints, const std::vector<uin
 void update_particle_kinematics(Particles& P, const Stencil& stencil, const Grids& grids, double pic_fraction,
                                 double dt, std::vector<Vec4>& d_eps, int threads);
 
+// ---- CPDI's particle domains (cpdi.cpp) ---------------------------------------------------------
+
+// Each particle's domain at the start (Particles::domain, three corners per particle): the
+// triangle similar to its element, of the particle's volume, centred on the particle; for four
+// particles per triangle, the seeding's midpoint sub-triangles themselves, so the domains tile
+// every element (the middle particle's is the inverted one).
+void initial_domains(const Mesh& mesh, Particles& P);
+// After (A.12): each corner moves with the remapped grid velocity interpolated there, which is
+// what moved the particle; a domain is centred again on its particle, and one that has
+// flattened, turned over or stretched beyond 5 sqrt(V_p) starts again as at the start.
+void move_domains(const Mesh& mesh, Particles& P, const Stencil& stencil, const Grids& grids, double dt, int threads);
+
 // ---- The cell pass (cells.cpp) -------------------------------------------------------------------
 // One sweep over the particles, by runs of one element, gives each element's particle count
 // (the stress update's isolated particles) and, with EVS, the sums of enhanced volumetric strain

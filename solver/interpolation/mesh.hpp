@@ -49,7 +49,7 @@ struct Mesh {
 struct MeshView {
   explicit MeshView(const Mesh& mesh)
       : constant(mesh.constant.data()), gradients(mesh.gradients->data()), neighbours(mesh.neighbours.data()),
-        elements(mesh.element_count()) {}
+        triangles(mesh.triangles.data()), elements(mesh.element_count()) {}
   Vec3 weights(int32_t e, const Vec2& x) const {
     return Mesh::barycentric(constant[e], gradients + static_cast<std::size_t>(e) * 3, x);
   }
@@ -58,6 +58,7 @@ struct MeshView {
   const Vec3* constant;
   const Vec2* gradients;
   const std::array<int32_t, 3>* neighbours;
+  const std::array<int32_t, 3>* triangles;
   std::size_t elements;
 };
 

@@ -21,7 +21,7 @@ long walk_to_elements(const Mesh& mesh, Particles& P, Stencil* stencil, int thre
     const long moving = static_cast<long>(P.moving_count);
     const Vec2* const position = P.x.data();
     int32_t* const element = P.element.data();
-    StencilRows rows(stencil);
+    StencilRows rows(stencil, &mesh, P.domain.data());
 #pragma omp for schedule(static)
     for (long p = 0; p < moving; ++p) {
       Vec3 w;

@@ -15,6 +15,16 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
     resize_rows(stencil, particles);
     return;
   }
+  if (family == ShapeFamily::LinearCpdi) {
+    // A row per particle: the nodes its domain's three corners reach (at most 3 x 3), refilled.
+    stencil.width = 9;
+    stencil.row_dN.reset();
+    stencil.share_gradients(nullptr);
+    stencil.inverse_inertia = Vec2::Zero();
+    resize_rows(stencil, particles);
+    stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
+    return;
+  }
   stencil.width = 3;
   stencil.N.assign(particles * stencil.width, 0);
   stencil.row.assign(particles, 0);
@@ -31,14 +41,15 @@ void resize_rows(Stencil& stencil, std::size_t particles) {
   stencil.N.resize(entries, 0);
   stencil.row.resize(particles, 0);
   if (!stencil.rows_per_particle()) return;
-  stencil.row_node.resize(entries, stencil.lattice.id(0, 0));
+  stencil.row_node.resize(entries, stencil.family == ShapeFamily::QuadraticBspline ? stencil.lattice.id(0, 0) : 0);
   stencil.own_dN.resize(entries, Vec2::Zero());
+  if (stencil.family == ShapeFamily::LinearCpdi) stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,
                      Stencil& stencil, int threads) {
   const long first = static_cast<long>(begin), last = static_cast<long>(end);
-  const StencilRows rows(&stencil);
+  const StencilRows rows(&stencil, &mesh, particles.domain.data());
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long p = first; p < last; ++p) {
     const int32_t e = particles.element[p];

@@ -33,6 +33,7 @@ namespace talus::solver {
 enum class ShapeFamily {
   LinearTriangle,    // the containing triangle's three linear shape functions (seed, A.3)
   QuadraticBspline,  // tensor-product quadratic B-splines on the grid pattern's lattice (bspline.cpp)
+  LinearCpdi,        // the linear triangles averaged over a triangular domain per particle (fill_cpdi)
 };
 
 // The widest stencil a family may have: phases keep per-entry sums of a particle or a run of
@@ -63,6 +64,9 @@ struct Stencil {
   // axis); zero for linear shape functions, whose affine matrix is sum v_i grad N_ip^T
   // (to_particles.cpp, affine_matrix).
   Vec2 inverse_inertia = Vec2::Zero();
+  // CPDI: each particle's own D_p^-1 = (sum_i S_ip (x_i - x_p)(x_i - x_p)^T)^-1 as (xx, xy, yx,
+  // yy), [p]; the domain keeps D_p away from singular. Empty for the other families.
+  std::vector<Vec4> own_inverse_inertia;
   Lattice lattice;  // QuadraticBspline: the grid pattern's, with its ghost layer
   void share_gradients(std::shared_ptr<const std::vector<Vec2>> table) {
     row_dN = std::move(table);
@@ -130,14 +134,19 @@ inline const Vec2* Stencil::gradients(std::size_t p) const { return StencilView(
 // a loop that fills a row for every particle; a null stencil fills nothing.
 class StencilRows {
  public:
-  explicit StencilRows(Stencil* stencil)
+  // `mesh` and `domain` (the particles' domain corners, Particles::domain): for CPDI, whose
+  // corners are located in the mesh; the other families do not read them.
+  StencilRows(Stencil* stencil, const Mesh* mesh = nullptr, const Vec2* domain = nullptr)
       : N_(stencil ? stencil->N.data() : nullptr), row_(stencil ? stencil->row.data() : nullptr),
         family_(stencil ? stencil->family : ShapeFamily::LinearTriangle),
         node_(stencil ? stencil->row_node.data() : nullptr),
         dN_(stencil && !stencil->own_dN.empty() ? stencil->own_dN.data() : nullptr),
-        lattice_(stencil ? &stencil->lattice : nullptr) {}
+        lattice_(stencil ? &stencil->lattice : nullptr), mesh_(mesh), domain_(domain),
+        own_inverse_(stencil && !stencil->own_inverse_inertia.empty() ? stencil->own_inverse_inertia.data()
+                                                                       : nullptr) {}
   void fill(std::size_t p, const Vec2& x, int32_t element, const Vec3& barycentric) const {
     if (family_ == ShapeFamily::QuadraticBspline) return fill_bspline(p, x);
+    if (family_ == ShapeFamily::LinearCpdi) return fill_cpdi(p, x, element, barycentric);
     // Linear triangles: the weights are the barycentric ones and the row is the element's.
     double* N = N_ + p * 3;
     for (int k = 0; k < 3; ++k) N[k] = barycentric[k];
@@ -178,12 +187,121 @@ class StencilRows {
     row_[p] = static_cast<int32_t>(p);
   }
 
+  // CPDI on linear triangles (Sadeghirad, Brannon and Burghardt 2011; with triangular domains,
+  // Sadeghirad, Brannon and Guilkey 2013): each particle has a triangular domain, its corners
+  // y_c (Particles::domain) moved with the grid velocity (move_domains), so that domains that
+  // tile the body at the start keep tiling it. With N_i(y_c) the linear shape functions at the
+  // corners and lambda_c the domain's own barycentric functions,
+  //   S_ip = 1/3 sum_c N_i(y_c),   grad S_ip = sum_c N_i(y_c) grad lambda_c,
+  // the mean over the domain of the linear interpolant of N_i's corner values and its gradient:
+  // a partition of unity that reproduces affine fields (sum_i x_i S_ip = the domain's centroid,
+  // the particle; sum_i x_i grad S_ip^T = I) and whose gradient changes continuously as the
+  // domain crosses an edge, which is what removes the cell-crossing error. A corner must lie in
+  // an element that shares a node with the particle's (so that a rank's halo, the nodes of the
+  // elements around its own, holds every node its particles reach); where one does not, or lies
+  // outside the mesh, the domain shrinks about the particle for this step (by bisection, to
+  // 1/64) until every corner does, and a particle on the boundary itself keeps the linear
+  // weights of its element. Entries of the same node add; the rest pad the row.
+  void fill_cpdi(std::size_t p, const Vec2& x, int32_t element, const Vec3& barycentric) const {
+    constexpr int kWidth = 9;
+    const MeshView mesh(*mesh_);
+    double* N = N_ + p * kWidth;
+    int32_t* nodes = node_ + p * kWidth;
+    Vec2* dN = dN_ + p * kWidth;
+    row_[p] = static_cast<int32_t>(p);
+    const Vec2* corner = domain_ + p * 3;
+    int32_t corner_element[3];
+    Vec3 corner_weight[3];
+    auto corners_at = [&](double scale, int32_t* ce, Vec3* cw) {
+      const auto& own = mesh.triangles[element];
+      for (int c = 0; c < 3; ++c) {
+        const int32_t e = locate(mesh, element, Vec2(x + scale * (corner[c] - x)), &cw[c]);
+        if (e < 0) return false;
+        const auto& t = mesh.triangles[e];
+        bool shares = false;
+        for (int i = 0; i < 3 && !shares; ++i)
+          for (int j = 0; j < 3; ++j) shares = shares || t[i] == own[j];
+        if (!shares) return false;
+        ce[c] = e;
+      }
+      return true;
+    };
+    double scale = 1;
+    if (!corners_at(scale, corner_element, corner_weight)) {
+      double inside = 0, outside = 1;
+      int32_t trial_element[3];
+      Vec3 trial_weight[3];
+      for (int halving = 0; halving < 6; ++halving) {
+        const double mid = 0.5 * (inside + outside);
+        if (corners_at(mid, trial_element, trial_weight)) {
+          inside = mid;
+          for (int c = 0; c < 3; ++c) corner_element[c] = trial_element[c], corner_weight[c] = trial_weight[c];
+        } else {
+          outside = mid;
+        }
+      }
+      scale = inside;
+    }
+    Vec2 y[3];
+    for (int c = 0; c < 3; ++c) y[c] = x + scale * (corner[c] - x);
+    const double twice_area = (y[1] - y[0]).x() * (y[2] - y[0]).y() - (y[1] - y[0]).y() * (y[2] - y[0]).x();
+    int used = 0;
+    if (scale <= 0 || !(std::abs(twice_area) > 0)) {  // on the boundary: the element's linear weights
+      for (int k = 0; k < 3; ++k) {
+        N[k] = barycentric[k];
+        nodes[k] = mesh.triangles[element][k];
+        dN[k] = mesh.gradients[static_cast<std::size_t>(element) * 3 + k];
+      }
+      used = 3;
+    } else {
+      Vec2 grad_lambda[3];
+      for (int c = 0; c < 3; ++c) {
+        const Vec2& a = y[(c + 1) % 3];
+        const Vec2& b = y[(c + 2) % 3];
+        grad_lambda[c] = Vec2(a.y() - b.y(), b.x() - a.x()) / twice_area;
+      }
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) {
+          const int32_t node = mesh.triangles[corner_element[c]][k];
+          const double n = corner_weight[c][k];
+          int slot = 0;
+          while (slot < used && nodes[slot] != node) ++slot;
+          if (slot == used) {
+            nodes[slot] = node;
+            N[slot] = 0;
+            dN[slot] = Vec2::Zero();
+            ++used;
+          }
+          N[slot] += n / 3;
+          dN[slot] += n * grad_lambda[c];
+        }
+    }
+    for (int k = used; k < kWidth; ++k) {
+      N[k] = 0;
+      nodes[k] = nodes[0];
+      dN[k] = Vec2::Zero();
+    }
+    // APIC's inertia D_p; where it is singular (a particle on the boundary at a node) the
+    // inverse is zero and C_p falls to zero for that step.
+    double dxx = 0, dxy = 0, dyy = 0;
+    for (int k = 0; k < used; ++k) {
+      const Vec2 r = mesh_->nodes[nodes[k]] - x;
+      dxx += N[k] * r.x() * r.x(), dxy += N[k] * r.x() * r.y(), dyy += N[k] * r.y() * r.y();
+    }
+    const double det = dxx * dyy - dxy * dxy;
+    own_inverse_[p] = Vec4::Zero();
+    if (det > 1e-12 * (dxx + dyy) * (dxx + dyy)) own_inverse_[p] = Vec4(dyy, -dxy, -dxy, dxx) / det;
+  }
+
   double* N_;
   int32_t* row_;
   ShapeFamily family_;
   int32_t* node_;
   Vec2* dN_;
   const Lattice* lattice_;
+  const Mesh* mesh_;
+  const Vec2* domain_;
+  Vec4* own_inverse_;
 };
 
 }  // namespace talus::solver

@@ -14,10 +14,18 @@ namespace {
 // diagonal): 4 / h^2 per axis for quadratic B-splines; for linear shape functions (zero)
 // C_p = sum v_i grad N_ip^T, which is B_p D_p^-1 for them (Jiang et al. 2017).
 template <class Width>
-Vec4 affine_matrix(int W, const StencilView<Width>& S, const Vec2& inverse_inertia, long p, const Vec2* v_i,
-                   const Vec2* x_i, const Vec2& x_p) {
+Vec4 affine_matrix(int W, const StencilView<Width>& S, const Vec2& inverse_inertia, const Vec4* own_inverse, long p,
+                   const Vec2* v_i, const Vec2* x_i, const Vec2& x_p) {
   Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
-  if (inverse_inertia.isZero()) {
+  if (own_inverse) {  // CPDI: B_p D_p^-1 with the particle's own D_p^-1 (stencil.hpp, fill_cpdi)
+    const double* N = S.weights(p);
+    const int32_t* nodes = S.nodes(p);
+    Eigen::Matrix2d B = Eigen::Matrix2d::Zero(), inverse;
+    for (int k = 0; k < W; ++k) B += N[k] * v_i[k] * (x_i[nodes[k]] - x_p).transpose();
+    const Vec4& d = own_inverse[p];
+    inverse << d[0], d[1], d[2], d[3];
+    C = B * inverse;
+  } else if (inverse_inertia.isZero()) {
     const Vec2* dN = S.gradients(p);
     for (int k = 0; k < W; ++k) C += v_i[k] * dN[k].transpose();
   } else {
@@ -47,6 +55,7 @@ void particle_velocities(Particles& P, const Stencil& stencil, const std::vector
     const long moving = static_cast<long>(P.moving_count);
     const double step = dt;
     const Vec2 inverse_inertia = stencil.inverse_inertia;
+    const Vec4* const own_inverse = stencil.own_inverse_inertia.empty() ? nullptr : stencil.own_inverse_inertia.data();
     const int32_t* const body = P.body.data();
     const int32_t* const field_index = grids.field_index.data();
     const double* const mass = P.m.data();
@@ -88,7 +97,7 @@ void particle_velocities(Particles& P, const Stencil& stencil, const std::vector
         Vec2 v = Vec2::Zero();
         for (int k = 0; k < W; ++k) v += N[k] * node_value[k];
         velocity[p] = v;
-        if constexpr (kAffine) affine[p] = affine_matrix(W, S, inverse_inertia, p, node_value, node_position, position[p]);
+        if constexpr (kAffine) affine[p] = affine_matrix(W, S, inverse_inertia, own_inverse, p, node_value, node_position, position[p]);
       }
       // Momentum for the remap (A.11), summed over the run.
       const double m = mass[p];

@@ -77,14 +77,28 @@ std::vector<int32_t> partition_elements(const Mesh& mesh, const std::vector<doub
 
 // The shared nodes of this rank: nodes that particles in its elements can reach and particles in
 // another rank's elements too. For linear triangles those are the element's corners; B-splines
-// reach the 4 x 4 lattice nodes around the element's cell, ghosts included (lattice.hpp).
+// reach the 4 x 4 lattice nodes around the element's cell, ghosts included (lattice.hpp); CPDI
+// the nodes of every element that shares a node with it (its domains' corners stay in those,
+// stencil.hpp, fill_cpdi).
 void set_up_halo(Domain& d, const Mesh& mesh, const Stencil& stencil) {
   std::vector<std::pair<int32_t, int32_t>> node_rank;  // (node, rank) of every node an element reaches
   node_rank.reserve(mesh.element_count() * (stencil.rows_per_particle() ? 16 : 3));
   std::vector<int32_t> reach;
+  std::vector<std::vector<int32_t>> node_elements;
+  if (stencil.family == ShapeFamily::LinearCpdi) {
+    node_elements.resize(mesh.node_count());
+    for (std::size_t e = 0; e < mesh.element_count(); ++e)
+      for (int32_t i : mesh.triangles[e]) node_elements[i].push_back(static_cast<int32_t>(e));
+  }
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     if (stencil.family == ShapeFamily::QuadraticBspline) {
       reachable_nodes(stencil.lattice, mesh, static_cast<int32_t>(e), reach);
+    } else if (stencil.family == ShapeFamily::LinearCpdi) {
+      reach.clear();
+      for (int32_t i : mesh.triangles[e])
+        for (int32_t around : node_elements[i]) reach.insert(reach.end(), mesh.triangles[around].begin(), mesh.triangles[around].end());
+      std::sort(reach.begin(), reach.end());
+      reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
     } else {
       reach.assign(mesh.triangles[e].begin(), mesh.triangles[e].end());
     }

@@ -35,6 +35,7 @@ enum FieldRole : unsigned {
   FIELD(double, pore_pressure, "pore_pressure", "Pa", kCheckpointed | kWritten)  \
   FIELD(double, excess_pore_pressure, "", "Pa", kCheckpointed)                   \
   FIELD(Vec4, C, "", "1/s", kCheckpointed)                                       \
+  FIELD(Vec2, domain, "", "m", kCheckpointed)                                    \
   FIELD(int32_t, body, "", "-", kCheckpointed)                                   \
   FIELD(int32_t, element, "", "-", kCheckpointed)                                \
   FIELD(int32_t, id, "", "-", kCheckpointed)                                     \
@@ -51,7 +52,8 @@ struct FieldInfo {
 
 // x position (m), v velocity (m/s), m mass (kg/m), volume (m^2 per m thickness), sigma Cauchy
 // stress (Pa), eps_p equivalent plastic shear strain, C APIC's affine velocity matrix
-// C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), body and element
+// C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), domain the three
+// corners of the particle's domain (m; empty unless the shape functions are CPDI), body and element
 // indices, id the index in the model's (and the results') order, load the surface load the
 // particle carries (-1: none) and load_force its force at full load (both empty without loads).
 // With a water table, pore_pressure u (Pa, positive in compression) and, undrained, its excess

@@ -86,6 +86,11 @@ namespace {
 // cell: a particle crosses no more than one cell per step at CFL <= 1.
 ShapeFamily shape_family(const Model& model, Mesh& mesh, Constraints& constraints, Stencil& stencil) {
   if (model.run.shape_functions == ShapeFunctions::Linear) return ShapeFamily::LinearTriangle;
+  if (model.run.shape_functions == ShapeFunctions::Cpdi) {
+    if (model.run.full_cell_fill > 0)
+      throw Error("model: run.integration = \"mixed\" is for linear triangles; CPDI integrates over the particles' domains");
+    return ShapeFamily::LinearCpdi;
+  }
   std::optional<Lattice> lattice = find_lattice(mesh);
   if (!lattice)
     throw Error("model: run.shape_functions = \"bspline\" needs the grid pattern's background mesh "
@@ -128,6 +133,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
     config.body_fixed.push_back(body.fixed);
   }
   sim.particles = particles_of(model, owned, config);
+  if (family == ShapeFamily::LinearCpdi) initial_domains(config.mesh, sim.particles);
   prepare_particle_materials(config.materials, config.material_of_body, sim.particles);
   if (owned) release_particles(*owned);
   initial_pore_pressures(sim.particles, config, 0);

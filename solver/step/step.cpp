@@ -108,6 +108,7 @@ bool step(Simulation& sim, double dt) {
 
   // (A.12): x_p += dt sum N_ip v_i; the strain increment and the stress's rotation.
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
+  if (s.stencil.family == ShapeFamily::LinearCpdi) move_domains(c.mesh, P, s.stencil, s.grids, dt, threads);
   clock.lap(PhaseTimes::Kinematics);
   sum_cells(c.mesh, P, c.evs, s.grids.active, s.element_count, s.evs, s.d_eps, threads);
   if (c.evs && distributed) exchange_evs_sums(sim);
@@ -115,7 +116,7 @@ bool step(Simulation& sim, double dt) {
   clock.lap(PhaseTimes::CellSums);
 
   // The constitutive update with EVS's volumetric strain, and V_p *= 1 + tr d_eps.
-  const CellSums cells{c.mesh, s.stencil, s.element_count, c.evs ? s.evs.node_mean.data() : nullptr};
+  const CellSums cells{c.mesh, s.stencil, s.element_count, c.evs ? s.evs.node_mean.data() : nullptr, &s.grids};
   s.bad_particle = update_stresses(P, s.d_eps, cells, c, sim.time + dt, dt, threads);
   clock.lap(PhaseTimes::Stresses);
 

@@ -28,7 +28,8 @@ namespace talus::solver {
 // when the elements across its element's edges are empty too (`neighbours` not null). Linear
 // triangles keep the element-only test: on several ranks a rank counts only its own elements,
 // so a neighbour test would make the answer depend on the partition; the B-spline family's
-// halo does not cover element counts either (docs/shape-functions.md says so).
+// halo does not cover element counts either (docs/shape-functions.md says so). CPDI adds a test
+// of the node masses, which every rank holds summed (StrainIncrement::alone_on_its_nodes).
 inline bool is_isolated(const int32_t* particles_in_element, const std::array<int32_t, 3>* neighbours, int32_t e,
                         double volume, double element_area) {
   if (particles_in_element[e] != 1 || !(2 * volume < element_area)) return false;
@@ -46,16 +47,22 @@ struct CellSums {
   const Stencil& stencil;
   const std::vector<int32_t>& element_count;
   const double* node_mean;  // EVS's evs.node_mean; null: EVS off
+  const Grids* grids = nullptr;  // this step's node masses: CPDI's isolated-particle test reads them
 };
 class StrainIncrement {
  public:
   // The arrays' data pointers are taken once: read through the containers, the compiler would
   // reload them after every store the stress update makes.
   StrainIncrement(const CellSums& sums, const Particles& P)
-      : row_(sums.stencil.row.data()), row_node_(sums.stencil.row_node.data()), width_(sums.stencil.width),
+      : row_(cpdi(sums) ? P.element.data() : sums.stencil.row.data()),
+        row_node_(cpdi(sums) ? sums.mesh.triangles.data()->data() : sums.stencil.row_node.data()),
+        width_(cpdi(sums) ? 3 : sums.stencil.width),
         node_mean_(sums.node_mean), count_(sums.element_count.data()), area_(sums.mesh.area.data()),
         neighbours_(sums.stencil.family == ShapeFamily::QuadraticBspline ? sums.mesh.neighbours.data() : nullptr),
-        element_(P.element.data()), volume_(P.volume.data()) {}
+        element_(P.element.data()), volume_(P.volume.data()),
+        grids_(cpdi(sums) ? sums.grids : nullptr), N_(sums.stencil.N.data()),
+        stencil_node_(sums.stencil.row_node.data()), stencil_width_(sums.stencil.width), mass_(P.m.data()),
+        body_(P.body.data()) {}
   Vec4 operator()(long p, const Vec4& d) {
     if (!node_mean_) return d;
     const int32_t row = row_[p];
@@ -69,9 +76,29 @@ class StrainIncrement {
     const double correction = 0.5 * (smoothed_ - (d[0] + d[1]));  // in-plane, so d_eps_zz stays 0
     return Vec4(d[0] + correction, d[1] + correction, d[2], d[3]);
   }
+  // With CPDI, EVS smooths over the particle's element's nodes, as with linear triangles: a row
+  // per particle's padded entries would weigh nodes twice.
+  static bool cpdi(const CellSums& sums) { return sums.stencil.family == ShapeFamily::LinearCpdi; }
   bool isolated(long p) const {
     const int32_t e = element_[p];
-    return is_isolated(count_, neighbours_, e, volume_[p], area_[e]);
+    if (!is_isolated(count_, neighbours_, e, volume_[p], area_[e])) return false;
+    return !grids_ || alone_on_its_nodes(p);
+  }
+  // CPDI: a particle alone in its element is isolated only when the other particles put, weighted
+  // by its own weights, less than half its mass on its nodes, sum_i S_ip (m_i - m_p S_ip) <
+  // m_p / 2. The domains of a coherent body tile it, so a particle at its surface shares its
+  // nodes with its neighbours and keeps its stress (the hanging bar, docs/shape-functions.md); a
+  // grain in free flight, or touching the body at a corner, does not. The node masses are summed
+  // over the ranks, so every partition finds the same particles.
+  bool alone_on_its_nodes(long p) const {
+    const Grid& grid = grids_->fields[static_cast<std::size_t>(grids_->field_of(body_[p]))];
+    const std::size_t first = static_cast<std::size_t>(p) * static_cast<std::size_t>(stencil_width_);
+    double others = 0;
+    for (int k = 0; k < stencil_width_; ++k) {
+      const double S = N_[first + k];
+      others += S * (grid.m[stencil_node_[first + k]] - mass_[p] * S);
+    }
+    return others < 0.5 * mass_[p];
   }
 
  private:
@@ -84,6 +111,12 @@ class StrainIncrement {
   const std::array<int32_t, 3>* neighbours_;
   const int32_t* element_;
   const double* volume_;
+  const Grids* grids_;  // CPDI only
+  const double* N_;
+  const int32_t* stencil_node_;
+  int stencil_width_;
+  const double* mass_;
+  const int32_t* body_;
   int32_t run_row_ = -1;
   double smoothed_ = 0;
 };

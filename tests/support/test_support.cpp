@@ -146,14 +146,18 @@ namespace {
 // positions of the mesh's triangles, each with a quarter of the triangle's area; `keep(centroid,
 // point)` says which of them belong to the body. Returns the body's index.
 template <class Keep>
-int add_seeded_body(Model& model, BodyInfo info, const Material& material, Keep keep) {
+int add_seeded_body(Model& model, BodyInfo info, const Material& material, Keep keep,
+                    Seeding seeding = Seeding::FourPoints) {
   const int body = static_cast<int>(model.bodies.size());
   model.materials.push_back(material);
   model.materials.back().name = info.name + "_material";
   info.material = static_cast<int>(model.materials.size()) - 1;
   model.bodies.push_back(info);
-  // Four equal-weight interior points: the centroid and the three permutations of (1/2, 1/4, 1/4).
-  const double rule[4][3] = {{1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.25, 0.25}, {0.25, 0.5, 0.25}, {0.25, 0.25, 0.5}};
+  // Four equal-weight interior points: the centroid and the three permutations of (1/2, 1/4, 1/4),
+  // or of (2/3, 1/6, 1/6) (the sub-triangles' centroids).
+  const double major = seeding == Seeding::FourPoints ? 0.5 : 2.0 / 3, minor = (1 - major) / 2;
+  const double rule[4][3] = {
+      {1.0 / 3, 1.0 / 3, 1.0 / 3}, {major, minor, minor}, {minor, major, minor}, {minor, minor, major}};
   for (std::size_t e = 0; e < model.triangles.size(); ++e) {
     const auto& t = model.triangles[e];
     const Eigen::Vector2d a = model.nodes[t[0]], b = model.nodes[t[1]], c = model.nodes[t[2]];
@@ -177,14 +181,14 @@ int add_seeded_body(Model& model, BodyInfo info, const Material& material, Keep 
 }  // namespace
 
 int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
-                 double y1, bool fixed) {
+                 double y1, bool fixed, Seeding seeding) {
   BodyInfo info;
   info.name = name;
   info.fixed = fixed;
   info.loops = {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
   return add_seeded_body(model, info, material, [&](const Eigen::Vector2d& centroid, const Eigen::Vector2d&) {
     return centroid.x() >= x0 && centroid.x() <= x1 && centroid.y() >= y0 && centroid.y() <= y1;
-  });
+  }, seeding);
 }
 
 int add_disc_body(Model& model, const std::string& name, const Material& material, const Eigen::Vector2d& centre,

@@ -57,11 +57,17 @@ Model rectangle_mesh(double x0, double y0, int nx, int ny, double h);
 // their centres. The B-spline family's lattice.
 Model crossed_rectangle_mesh(double x0, double y0, int nx, int ny, double h);
 
+// Where add_box_body puts a triangle's four particles: the four-point barycentric positions
+// (the centroid and the permutations of (1/2, 1/4, 1/4)), or the centroids of the midpoint
+// sub-triangles as the preprocessor seeds them (preproc/seeding.cpp), whose CPDI domains tile
+// the triangle.
+enum class Seeding { FourPoints, SubTriangles };
+
 // Adds a body of one material filling the box [x0, x1] x [y0, y1] of the mesh: particles at
-// the four-point barycentric positions of every triangle whose centroid lies in the box,
-// each with a quarter of the triangle's area. Returns the body's index.
+// four points of every triangle whose centroid lies in the box (`seeding`), each with a quarter
+// of the triangle's area. Returns the body's index.
 int add_box_body(Model& model, const std::string& name, const Material& material, double x0, double x1, double y0,
-                 double y1, bool fixed = false);
+                 double y1, bool fixed = false, Seeding seeding = Seeding::FourPoints);
 
 // Adds a body of one material filling the disc of `radius` around `centre`: the same
 // four-point positions as add_box_body, kept per point, so the rim follows the circle to
