@@ -84,19 +84,18 @@ void set_up_halo(Domain& d, const Mesh& mesh, const Stencil& stencil) {
   std::vector<std::pair<int32_t, int32_t>> node_rank;  // (node, rank) of every node an element reaches
   node_rank.reserve(mesh.element_count() * (stencil.rows_per_particle() ? 16 : 3));
   std::vector<int32_t> reach;
-  std::vector<std::vector<int32_t>> node_elements;
-  if (stencil.family == ShapeFamily::LinearCpdi) {
-    node_elements.resize(mesh.node_count());
-    for (std::size_t e = 0; e < mesh.element_count(); ++e)
-      for (int32_t i : mesh.triangles[e]) node_elements[i].push_back(static_cast<int32_t>(e));
-  }
+  EvsScratch around;  // CPDI: the elements around each node (evs_adjacency)
+  if (stencil.family == ShapeFamily::LinearCpdi) evs_adjacency(mesh, around);
   for (std::size_t e = 0; e < mesh.element_count(); ++e) {
     if (stencil.family == ShapeFamily::QuadraticBspline) {
       reachable_nodes(stencil.lattice, mesh, static_cast<int32_t>(e), reach);
     } else if (stencil.family == ShapeFamily::LinearCpdi) {
       reach.clear();
       for (int32_t i : mesh.triangles[e])
-        for (int32_t around : node_elements[i]) reach.insert(reach.end(), mesh.triangles[around].begin(), mesh.triangles[around].end());
+        for (int32_t j = around.node_first[i]; j < around.node_first[i + 1]; ++j) {
+          const auto& t = mesh.triangles[around.node_elements[j]];
+          reach.insert(reach.end(), t.begin(), t.end());
+        }
       std::sort(reach.begin(), reach.end());
       reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
     } else {
