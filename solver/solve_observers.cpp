@@ -20,6 +20,7 @@ double next_multiple_after(double time, double interval, double tolerance) {
 
 Verdict FrameWriter::after_step(Simulation& sim, const StepEvent&) {
   if (due(sim)) write(sim);
+  sim.particles.step_velocity.clear();  // kept for this frame only
   return Verdict::go_on();
 }
 

@@ -222,7 +222,9 @@ void migrate_particles(Simulation& sim) {
   Domain& d = sim.domain;
   if (!d.distributed()) return;
   Particles& P = sim.particles;
-  const std::vector<std::size_t>& widths = d.field_width;
+  std::vector<std::size_t> widths = d.field_width;
+  // A frame's velocities travel with their particles (every rank keeps them at the same steps).
+  if (sim.scratch.keep_step_velocity) set_width(widths, "step_velocity", 1);
   const std::size_t moving = P.moving_count, n = P.size();
   std::vector<std::string> send(static_cast<std::size_t>(d.ranks));
   std::vector<std::size_t> holes;

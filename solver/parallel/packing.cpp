@@ -1,6 +1,7 @@
 #include "solver/parallel/packing.hpp"
 
 #include <cstring>
+#include <string_view>
 #include <type_traits>
 
 namespace talus::solver {
@@ -10,6 +11,15 @@ std::vector<std::size_t> field_widths(const Particles& P) {
   const std::size_t n = P.size();
   P.for_each_field([&](const FieldInfo&, const auto& column) { widths.push_back(width_of(column, n)); });
   return widths;
+}
+
+void set_width(std::vector<std::size_t>& widths, const char* member, std::size_t width) {
+  const Particles none;
+  std::size_t f = 0;
+  none.for_each_field([&](const FieldInfo& info, const auto&) {
+    if (std::string_view(info.name) == member) widths[f] = width;
+    ++f;
+  });
 }
 
 void pack(const Particles& P, const std::vector<std::size_t>& widths, std::size_t p, std::string& out) {

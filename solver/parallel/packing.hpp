@@ -13,6 +13,9 @@ namespace talus::solver {
 // Elements of each registry field per particle (0 for an unused field, history_width for the
 // history): the same on every rank, so a rank that holds no particle can still read a message.
 std::vector<std::size_t> field_widths(const Particles& P);
+// Sets the width of the field named `member` (FieldInfo::name) in `widths`: a field that only some
+// steps fill (step_velocity), the same steps on every rank.
+void set_width(std::vector<std::size_t>& widths, const char* member, std::size_t width);
 // Appends particle p's fields to `out`.
 void pack(const Particles& P, const std::vector<std::size_t>& widths, std::size_t p, std::string& out);
 // Bytes of one packed particle.

@@ -51,9 +51,11 @@ Energies energies(const Simulation& sim) {
   return {all[0], all[1], all[2], all[3]};
 }
 
-Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
+namespace {
+
+// sum S_ip v_i with the stencil the solver holds now.
+Vec2 interpolated(const Simulation& sim, std::size_t p) {
   const Particles& P = sim.particles;
-  if (sim.steps == 0) return P.v[p];  // no grid field yet: the initial velocities
   if (p >= P.moving_count) return Vec2::Zero();
   const Stencil& S = sim.scratch.stencil;
   const Grid& grid = sim.scratch.grids.fields[sim.scratch.grids.field_of(P.body[p])];
@@ -64,14 +66,32 @@ Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
   return velocity;
 }
 
+}  // namespace
+
+Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
+  const Particles& P = sim.particles;
+  if (sim.steps == 0) return P.v[p];  // no grid field yet: the initial velocities
+  if (P.step_velocity.size() == P.size()) return P.step_velocity[p];
+  return interpolated(sim, p);
+}
+
 std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
   const Particles& P = sim.particles;
   if (sim.steps == 0) return P.v;
+  if (P.step_velocity.size() == P.size()) return P.step_velocity;
   std::vector<Vec2> velocity(P.size());
   const long count = static_cast<long>(P.size());
 #pragma omp parallel for schedule(static) num_threads(sim.config.threads)
-  for (long p = 0; p < count; ++p) velocity[p] = grid_velocity_at_particle(sim, static_cast<std::size_t>(p));
+  for (long p = 0; p < count; ++p) velocity[p] = interpolated(sim, static_cast<std::size_t>(p));
   return velocity;
+}
+
+void keep_step_velocities(Simulation& sim) {
+  Particles& P = sim.particles;
+  P.step_velocity.resize(P.size());
+  const long count = static_cast<long>(P.size());
+#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < count; ++p) P.step_velocity[p] = interpolated(sim, static_cast<std::size_t>(p));
 }
 
 }  // namespace talus::solver

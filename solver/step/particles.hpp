@@ -40,7 +40,8 @@ enum FieldRole : unsigned {
   FIELD(int32_t, element, "", "-", kCheckpointed)                                \
   FIELD(int32_t, id, "", "-", kCheckpointed)                                     \
   FIELD(int32_t, load, "", "-", kCheckpointed)                                   \
-  FIELD(Vec2, load_force, "", "N/m", kCheckpointed)
+  FIELD(Vec2, load_force, "", "N/m", kCheckpointed)                             \
+  FIELD(Vec2, step_velocity, "", "m/s", 0)
 
 // Declaration of one field as the visitors see it.
 struct FieldInfo {
@@ -55,7 +56,10 @@ struct FieldInfo {
 // C_ab = dv_a / dx_b as (xx, xy, yx, yy) (empty unless the transfer is APIC), domain the three
 // corners of the particle's domain (m; empty unless the shape functions are CPDI), body and element
 // indices, id the index in the model's (and the results') order, load the surface load the
-// particle carries (-1: none) and load_force its force at full load (both empty without loads).
+// particle carries (-1: none) and load_force its force at full load (both empty without loads);
+// step_velocity the grid velocity that moved the particle in the last step, sum S_ip v_i with
+// that step's stencil (A.12), kept only at a step that ends on a frame (Scratch::keep_step_velocity)
+// so that it travels with a particle that changes rank, empty otherwise.
 // With a water table, pore_pressure u (Pa, positive in compression) and, undrained, its excess
 // over the hydrostatic part; sigma is then the TOTAL stress and the effective stress is
 // sigma + u (1, 1, 1, 0) (docs/water.md). Both are empty without water. Particles of fixed bodies are kept after all the

@@ -88,6 +88,9 @@ struct Scratch {
   std::vector<double> cell_scale;
   ContactScratch contact;             // contact only: this step's contact nodes (contact.hpp)
   std::vector<double> load_factor;     // this step's ramp factor per surface load
+  // Set by the time loop when an observer wants this step's grid velocity at the particles (a
+  // frame): the step then fills Particles::step_velocity before it moves on to the next stencil.
+  bool keep_step_velocity = false;
   PhaseTimes* phase_times = nullptr;   // not owned; null: no timing
   // Problems found inside parallel loops, reported after them (-1: none).
   long bad_particle = -1;   // a particle with a non-finite state (the largest index)
@@ -152,10 +155,15 @@ struct Energies {
 };
 Energies energies(const Simulation& sim);
 
-// The grid velocity at each particle, sum N_ip v_i with the last step's remapped velocities:
-// the velocity that moves it (A.12), free of the FLIP components the grid cannot see.
+// The grid velocity at each particle, sum N_ip v_i with the last step's remapped velocities and
+// stencil: the velocity that moved it (A.12), free of the FLIP components the grid cannot see.
+// Particles::step_velocity when the step kept it; else (a run stopped between frames) the same
+// sum with the stencil of the particle's new element, which on several ranks may reach nodes its
+// rank did not sum in that step.
 std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim);
 // The same at the solver's particle p alone (the results writer's frames, a block at a time).
 Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p);
+// Fills Particles::step_velocity from the step's grid and stencil (step, before relocation).
+void keep_step_velocities(Simulation& sim);
 
 }  // namespace talus::solver

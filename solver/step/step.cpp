@@ -109,6 +109,7 @@ bool step(Simulation& sim, double dt) {
   // (A.12): x_p += dt sum N_ip v_i; the strain increment and the stress's rotation.
   update_particle_kinematics(P, s.stencil, s.grids, c.pic_fraction, dt, s.d_eps, threads);
   if (s.stencil.family == ShapeFamily::LinearCpdi) move_domains(c.mesh, P, s.stencil, s.grids, dt, threads);
+  if (s.keep_step_velocity) keep_step_velocities(sim);  // for a frame, before the stencil moves on
   clock.lap(PhaseTimes::Kinematics);
   sum_cells(c.mesh, P, c.evs, s.grids.active, s.element_count, s.evs, s.d_eps, threads);
   if (c.evs && distributed) exchange_evs_sums(sim);

@@ -43,6 +43,9 @@ LoopEnd run_time_loop(Simulation& sim, double cfl, double end_time, const std::v
           << " s, is not ahead of it";
       return {LoopEnd::BadTimeStep, why.str()};
     }
+    bool keep = false;
+    for (const Observer* o : observers) keep = keep || o->wants_step_velocity(sim, sim.time + dt);
+    sim.scratch.keep_step_velocity = keep;
     if (!step(sim, dt)) return {LoopEnd::StepFailed, ""};
 
     bool energies_due = false;

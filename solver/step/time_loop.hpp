@@ -53,6 +53,9 @@ class Observer {
   virtual double next_landing(const Simulation&) const { return kNever; }
   // Whether this step's energies are wanted; asked after the step, before any after_step.
   virtual bool wants_energies(const Simulation&) const { return false; }
+  // Whether the step that ends at `time` (s) should keep its grid velocity at the particles
+  // (Particles::step_velocity); asked before the step.
+  virtual bool wants_step_velocity(const Simulation&, double /*time*/) const { return false; }
   virtual Verdict after_step(Simulation& sim, const StepEvent& event) = 0;
 };
 
