@@ -1,15 +1,18 @@
 // Runout benchmark (docs/column.md, docs/transfer.md): each velocity transfer on the column
 // collapse against Lube et al. (2005), on the aluminium rods' collapse against Nguyen et al.
-// (2015), on the slope at several element sizes, and on a freely
-// vibrating elastic cantilever (energy lost per period). Every run is in-process.
+// (2015), on the slope at several element sizes, on a freely vibrating elastic cantilever
+// (energy lost per period), and, on request, on every shipped scene as it is. Every run is
+// in-process.
 //
-//   talus_bench_runout                                 all three parts, the default transfers
+//   talus_bench_runout                                 column, rods, slope, vibration; default transfers
 //   talus_bench_runout --only column --aspect 0.5,1,3,6 --transfers xpic2
 //   talus_bench_runout --only rods --transfers flip,apic --set run.shape_functions=bspline
 //   talus_bench_runout --only slope --sizes 0.5,0.25,0.125
+//   talus_bench_runout --only scenes --transfers apic --set run.shape_functions=cpdi
 //
-// Writes runout_column.csv, runout_slope.csv, runout_vibration.csv, runout.md and
-// bench_runout_column.png (bench/plot_benchmarks.py) to --out (default out/bench).
+// Writes runout_column.csv, runout_slope.csv, runout_vibration.csv, runout_scenes.csv, runout.md
+// and bench_runout_column.png (bench/plot_benchmarks.py) to --out (default out/bench).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -85,8 +88,8 @@ std::vector<Eigen::Vector2d> last_frame(const std::string& results) {
   return x;
 }
 
-// talus post's runout_distance_m (m) of a finished run in `scratch` (figures off), or nothing.
-std::optional<double> post_runout(const bench::Scratch& scratch) {
+// talus post on a finished run in `scratch` (figures off): the text of its metrics.json.
+std::string post_metrics(const bench::Scratch& scratch) {
   postproc::PostOptions post;
   post.figures = false;
   std::ostringstream log;
@@ -94,7 +97,12 @@ std::optional<double> post_runout(const bench::Scratch& scratch) {
   std::ifstream in(scratch.file("metrics.json"));
   std::stringstream json;
   json << in.rdbuf();
-  return bench::json_number(json.str(), "runout_distance_m");
+  return json.str();
+}
+
+// talus post's runout_distance_m (m) of a finished run in `scratch`, or nothing.
+std::optional<double> post_runout(const bench::Scratch& scratch) {
+  return bench::json_number(post_metrics(scratch), "runout_distance_m");
 }
 
 // Nguyen, Bui et al. (2015), "Failure mechanism of true 2D granular flows" (arXiv:1512.05180),
@@ -232,6 +240,70 @@ void run_slope(const Options& options, std::ostringstream& md) {
   md << "\n";
 }
 
+// Every value of `key` in a JSON text (a number after "key":), the largest; nothing if none.
+std::optional<double> largest_json_number(const std::string& json, const std::string& key) {
+  std::optional<double> largest;
+  const std::string quoted = "\"" + key + "\":";
+  for (std::size_t at = json.find(quoted); at != std::string::npos; at = json.find(quoted, at + 1)) {
+    char* end = nullptr;
+    const char* begin = json.c_str() + at + quoted.size();
+    const double value = std::strtod(begin, &end);
+    if (end != begin) largest = largest ? std::max(*largest, std::abs(value)) : std::abs(value);
+  }
+  return largest;
+}
+
+// Every shipped scene (geometries/*.toml) as it is, with each transfer and the --set overrides:
+// whether it runs to its end (or to rest) with every particle inside the mesh, its runout and,
+// for the scenes with an exact answer, talus post's largest relative error against it.
+void run_scenes(const Options& options, std::ostringstream& md) {
+  std::vector<std::string> scenes;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TALUS_SOURCE_DIR) / "geometries"))
+    if (entry.path().extension() == ".toml") scenes.push_back(entry.path().stem().string());
+  std::sort(scenes.begin(), scenes.end());
+  md << "## Every shipped scene";
+  for (const auto& o : options.overrides) md << (&o == &options.overrides.front() ? " (" : ", ") << o;
+  md << (options.overrides.empty() ? "" : ")") << "\n\n"
+     << "| scene | transfer | particles | steps | simulated (s) | wall (s) | outcome | runout (m) | error against the exact "
+        "answer |\n|---|---|---:|---:|---:|---:|---|---:|---:|\n";
+  std::ofstream csv((std::filesystem::path(options.out) / "runout_scenes.csv").string());
+  csv << "scene,transfer,particles,steps,simulated_s,wall_s,outcome,runout_m,exact_error\n";
+  for (const auto& name : options.transfers) {
+    const TransferChoice t = transfer_choice(name);
+    for (const auto& scene : scenes) {
+      std::vector<std::string> overrides = t.overrides;
+      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      std::fprintf(stderr, "scene %s %s ...", scene.c_str(), name.c_str());
+      bench::Scratch scratch("scene");
+      std::string outcome, runout, error;
+      bench::TimedRun run;
+      try {
+        run = bench::run_scene(bench::scene_path(scene), overrides, scratch.path().string(), options.threads);
+        outcome = run.summary.stopped_at_rest ? "at rest" : "to end_time";
+        const std::string json = post_metrics(scratch);
+        if (const auto r = bench::json_number(json, "runout_distance_m")) runout = fixed(*r, 2);
+        // The validation scenes' errors: box_incline's and newmark_block's relative_error,
+        // spring_mass's max_error_over_amplitude.
+        std::optional<double> e = largest_json_number(json, "relative_error");
+        if (!e) e = largest_json_number(json, "max_error_over_amplitude");
+        if (e) error = fixed(100 * *e, 2) + "%";
+      } catch (const Error& failure) {
+        outcome = std::string("failed: ") + failure.what();
+      }
+      std::fprintf(stderr, " %s\n", outcome.c_str());
+      md << "| " << scene << " | " << name << " | " << run.summary.particles << " | " << run.summary.steps << " | "
+         << fixed(run.summary.simulated_time, 2) << " | " << fixed(run.wall_seconds, 1) << " | " << outcome << " | "
+         << runout << " | " << error << " |\n";
+      csv << scene << "," << name << "," << run.summary.particles << "," << run.summary.steps << ","
+          << run.summary.simulated_time << "," << run.wall_seconds << ",\"" << outcome << "\"," << runout << ","
+          << error << "\n";
+    }
+  }
+  md << "\nA particle that leaves the mesh, or a state that blows up, fails the run. Runout: talus post's "
+        "runout_distance_m (scenes that post a runout). Error: the largest relative error of talus post's "
+        "comparison with the exact answer (box_incline, newmark_block, spring_mass).\n\n";
+}
+
 // A cantilever 1 m long and 0.1 m deep (E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3, 0.025 m cells,
 // 4 particles per cell), clamped at x = 0, no gravity, set swinging with v_y = 0.05 (x / L)^2 m/s.
 // Energy = particle kinetic + strain energy, over 4 first-mode periods.
@@ -291,14 +363,16 @@ std::vector<double> numbers(const std::string& text) {
 
 int usage(const char* self, int status) {
   std::fprintf(status ? stderr : stdout,
-               "usage: %s [--only column,rods,slope,vibration] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
+               "usage: %s [--only column,rods,slope,vibration,scenes] [--transfers LIST] [--aspect LIST] [--sizes LIST]\n"
                "          [--set KEY=VALUE]... [--out DIR] [--threads N] [--no-plots]\n"
                "  --transfers  comma-separated flip, pic_blend, xpicM (M = order), apic (apic with\n"
                "               --set run.shape_functions=bspline --set mesh.pattern=grid, or\n"
                "               --set run.shape_functions=cpdi)\n"
                "  --aspect     column aspect ratios (default 0.5,3 for column, 1,2,4 for rods)\n"
                "  --sizes      slope element sizes in m (default 0.5,0.25)\n"
-               "  --set        a scene override for every column and slope run\n",
+               "  --set        a scene override for every column, slope and scene run\n"
+               "  scenes       (only with --only) every geometries/*.toml as it is: whether it finishes,\n"
+               "               its runout and its error against an exact answer where it has one\n",
                self);
   return status;
 }
@@ -335,6 +409,7 @@ int main(int argc, char** argv) {
       else if (part == "rods") run_column(options, kRodsColumn, options.rods_aspect, md);
       else if (part == "slope") run_slope(options, md);
       else if (part == "vibration") run_vibration(options, md);
+      else if (part == "scenes") run_scenes(options, md);
       else return usage(argv[0], 1);
     }
     md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()

@@ -44,6 +44,8 @@ long stress_loop(Particles& P, const std::vector<Vec4>& d_eps, const CellSums& c
         [[maybe_unused]] double u = 0;
         if (increment.isolated(p)) {
           sigma.setZero();  // a grain in free flight (stress.hpp, is_isolated)
+          // With APIC, no affine velocity from a held node (stress.hpp, reaches_held_node).
+          if (!P.C.empty() && reaches_held_node(config.constraints, cells.stencil, p)) P.C[p].setZero();
           if constexpr (kWater) u = table.pore_pressure(a.x[p]);
         } else {
           const MaterialState& material = *material_of_body[a.body[p]];

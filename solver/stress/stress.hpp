@@ -144,6 +144,22 @@ struct StressArrays {
   std::size_t history_width;
 };
 
+// With APIC, an isolated particle whose stencil reaches a node that a boundary condition holds
+// (or a B-spline ghost, a wall's mirror) also loses its affine velocity C_p: the only velocity
+// gradient such a grain's nodes can give it is the wall's or the rough base's (its lower nodes
+// held at rest under it), not its own. Kept, that gradient goes back into the next P2G as
+// velocities of metres per second at its nodes, a cell from a grain at rest; with CPDI it is
+// divided by a D_p that a domain shrunk against the base makes small. The rods at a = 2 and 4
+// with CPDI blew up so (t = 0.62 s at a = 2: grains sliding ahead of the front at 1-3 m/s with
+// |C_p| ~ 2e3 1/s; docs/transfer.md, "APIC with CPDI on every shipped scene"). A lone grain away
+// from the walls keeps C_p: its own P2G and G2P carry an affine field exactly, its spin included.
+inline bool reaches_held_node(const Constraints& constraints, const Stencil& stencil, long p) {
+  const int32_t* nodes = stencil.nodes(static_cast<std::size_t>(p));
+  for (int k = 0; k < stencil.width; ++k)
+    if (nodes[k] >= constraints.first_ghost || constraints.kind[nodes[k]] != Constraint::Free) return true;
+  return false;
+}
+
 // A particle's volume grows to at most this many times its initial volume. Elastic strains and
 // a sand's dilation stay well below; beyond it a material pulled apart (a frictional one at the
 // apex of its cone, without stress) opens gaps between its particles instead of inflating them.
