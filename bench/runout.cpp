@@ -400,6 +400,9 @@ int main(int argc, char** argv) {
       else return usage(argv[0], arg == "--help" || arg == "-h" ? 0 : 1);
     }
     for (const auto& name : options.transfers) transfer_choice(name);  // reject bad names before running
+    for (const auto& part : options.parts)
+      if (part != "column" && part != "rods" && part != "slope" && part != "vibration" && part != "scenes")
+        throw Error("--only: unknown part '" + part + "' (expected column, rods, slope, vibration or scenes)");
     std::filesystem::create_directories(options.out);
     std::ostringstream md;
     md << "# Runout benchmark\n\n";
@@ -410,7 +413,6 @@ int main(int argc, char** argv) {
       else if (part == "slope") run_slope(options, md);
       else if (part == "vibration") run_vibration(options, md);
       else if (part == "scenes") run_scenes(options, md);
-      else return usage(argv[0], 1);
     }
     md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()
        << " in " << fixed(bench::now_seconds() - start, 0) << " s.\n";
