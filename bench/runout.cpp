@@ -74,6 +74,13 @@ struct Options {
   bool plots = true;
 };
 
+// A run's scene overrides: the transfer's, then the --set ones (which win).
+std::vector<std::string> scene_overrides(const TransferChoice& t, const Options& options) {
+  std::vector<std::string> overrides = t.overrides;
+  overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+  return overrides;
+}
+
 // The column's length for aspect ratio a: the same column area, 0.02 m^2, at every a (0.2 m at
 // a = 0.5, 0.058 m at a = 6), so that every run has about 7,500 particles (4 per 5 mm triangle).
 double column_length(double a) { return std::sqrt(0.02 / a); }
@@ -149,8 +156,7 @@ void run_column(const Options& options, const ColumnCase& c, const std::vector<d
     const TransferChoice t = transfer_choice(name);
     for (double a : aspects) {
       const double L0 = column_length(a), H0 = a * L0;
-      std::vector<std::string> overrides = t.overrides;
-      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      std::vector<std::string> overrides = scene_overrides(t, options);
       overrides.push_back("mesh.parameters.a=" + general(a, 6));
       overrides.push_back("mesh.parameters.L0=" + general(L0, 6));
       std::fprintf(stderr, "%s %s a = %g ...", c.part.c_str(), name.c_str(), a);
@@ -217,8 +223,7 @@ void run_slope(const Options& options, std::ostringstream& md) {
   for (const auto& name : options.transfers) {
     const TransferChoice t = transfer_choice(name);
     for (double size : options.sizes) {
-      std::vector<std::string> overrides = t.overrides;
-      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      std::vector<std::string> overrides = scene_overrides(t, options);
       overrides.push_back("mesh.size=" + general(size, 6));
       std::fprintf(stderr, "slope %s %g m ...", name.c_str(), size);
       bench::Scratch scratch("slope");
@@ -271,8 +276,7 @@ void run_scenes(const Options& options, std::ostringstream& md) {
   for (const auto& name : options.transfers) {
     const TransferChoice t = transfer_choice(name);
     for (const auto& scene : scenes) {
-      std::vector<std::string> overrides = t.overrides;
-      overrides.insert(overrides.end(), options.overrides.begin(), options.overrides.end());
+      std::vector<std::string> overrides = scene_overrides(t, options);
       std::fprintf(stderr, "scene %s %s ...", scene.c_str(), name.c_str());
       bench::Scratch scratch("scene");
       std::string outcome, runout, error;
@@ -399,21 +403,26 @@ int main(int argc, char** argv) {
       else if (arg == "--no-plots") options.plots = false;
       else return usage(argv[0], arg == "--help" || arg == "-h" ? 0 : 1);
     }
-    for (const auto& name : options.transfers) transfer_choice(name);  // reject bad names before running
-    for (const auto& part : options.parts)
-      if (part != "column" && part != "rods" && part != "slope" && part != "vibration" && part != "scenes")
-        throw Error("--only: unknown part '" + part + "' (expected column, rods, slope, vibration or scenes)");
-    std::filesystem::create_directories(options.out);
     std::ostringstream md;
+    const std::vector<std::pair<std::string, std::function<void()>>> known = {
+        {"column", [&] { run_column(options, kSandColumn, options.aspect, md); }},
+        {"rods", [&] { run_column(options, kRodsColumn, options.rods_aspect, md); }},
+        {"slope", [&] { run_slope(options, md); }},
+        {"vibration", [&] { run_vibration(options, md); }},
+        {"scenes", [&] { run_scenes(options, md); }}};
+    auto part_named = [&](const std::string& name) {
+      for (const auto& [part, run] : known)
+        if (part == name) return run;
+      throw Error("--only: unknown part '" + name + "' (expected column, rods, slope, vibration or scenes)");
+    };
+    // Bad names are refused before anything runs.
+    for (const auto& name : options.transfers) transfer_choice(name);
+    std::vector<std::function<void()>> parts;
+    for (const auto& name : options.parts) parts.push_back(part_named(name));
+    std::filesystem::create_directories(options.out);
     md << "# Runout benchmark\n\n";
     const double start = bench::now_seconds();
-    for (const auto& part : options.parts) {
-      if (part == "column") run_column(options, kSandColumn, options.aspect, md);
-      else if (part == "rods") run_column(options, kRodsColumn, options.rods_aspect, md);
-      else if (part == "slope") run_slope(options, md);
-      else if (part == "vibration") run_vibration(options, md);
-      else if (part == "scenes") run_scenes(options, md);
-    }
+    for (const auto& run : parts) run();
     md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()
        << " in " << fixed(bench::now_seconds() - start, 0) << " s.\n";
     const std::string md_path = (std::filesystem::path(options.out) / "runout.md").string();

@@ -31,9 +31,7 @@ class FrameWriter : public Observer {
       : writer_(writer), ranks_(ranks), loop_(loop), interval_(interval), tolerance_(tolerance) {}
   double next_landing(const Simulation&) const override { return loop_.next_output; }
   bool wants_energies(const Simulation& sim) const override { return due(sim); }
-  bool wants_step_velocity(const Simulation&, double time) const override {
-    return time >= loop_.next_output - tolerance_;
-  }
+  bool wants_step_velocity(const Simulation&, double time) const override { return due_at(time); }
   Verdict after_step(Simulation& sim, const StepEvent&) override;
   // Writes a frame now (the last one of a run that stops between output times).
   void write(const Simulation& sim);
@@ -41,7 +39,8 @@ class FrameWriter : public Observer {
   double seconds() const { return seconds_; }  // wall time spent writing the frames so far
 
  private:
-  bool due(const Simulation& sim) const { return wants_step_velocity(sim, sim.time); }
+  bool due_at(double time) const { return time >= loop_.next_output - tolerance_; }
+  bool due(const Simulation& sim) const { return due_at(sim.time); }
   ResultsWriter* writer_;
   RankFrames* ranks_;
   LoopState& loop_;

@@ -66,6 +66,15 @@ Vec2 interpolated(const Simulation& sim, std::size_t p) {
   return velocity;
 }
 
+// interpolated() at every particle.
+std::vector<Vec2> interpolated_at_particles(const Simulation& sim) {
+  std::vector<Vec2> velocity(sim.particles.size());
+  const long count = static_cast<long>(velocity.size());
+#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
+  for (long p = 0; p < count; ++p) velocity[p] = interpolated(sim, static_cast<std::size_t>(p));
+  return velocity;
+}
+
 }  // namespace
 
 Vec2 grid_velocity_at_particle(const Simulation& sim, std::size_t p) {
@@ -79,19 +88,9 @@ std::vector<Vec2> grid_velocity_at_particles(const Simulation& sim) {
   const Particles& P = sim.particles;
   if (sim.steps == 0) return P.v;
   if (P.step_velocity.size() == P.size()) return P.step_velocity;
-  std::vector<Vec2> velocity(P.size());
-  const long count = static_cast<long>(P.size());
-#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
-  for (long p = 0; p < count; ++p) velocity[p] = interpolated(sim, static_cast<std::size_t>(p));
-  return velocity;
+  return interpolated_at_particles(sim);
 }
 
-void keep_step_velocities(Simulation& sim) {
-  Particles& P = sim.particles;
-  P.step_velocity.resize(P.size());
-  const long count = static_cast<long>(P.size());
-#pragma omp parallel for schedule(static) num_threads(sim.config.threads)
-  for (long p = 0; p < count; ++p) P.step_velocity[p] = interpolated(sim, static_cast<std::size_t>(p));
-}
+void keep_step_velocities(Simulation& sim) { sim.particles.step_velocity = interpolated_at_particles(sim); }
 
 }  // namespace talus::solver
