@@ -47,7 +47,16 @@ void move_domains(const Mesh& mesh, Particles& P, const Stencil& stencil, const 
     Vec2 v_p = Vec2::Zero();
     for (int k = 0; k < stencil.width; ++k) v_p += N[k] * grid.v[nodes[k]];
     Vec2* y = &P.domain[3 * static_cast<std::size_t>(p)];
+    const int32_t* found_in = &stencil.corner_element[3 * static_cast<std::size_t>(p)];
     for (int c = 0; c < 3; ++c) {
+      if (found_in[c] >= 0) {  // where fill_cpdi found it: the element's nodes are in the row
+        const int32_t ce = found_in[c];
+        const Vec3 w = mesh.weights(ce, y[c]);
+        Vec2 v = Vec2::Zero();
+        for (int k = 0; k < 3; ++k) v += w[k] * grid.v[mesh.triangles[ce][k]];
+        y[c] += dt * v;
+        continue;
+      }
       Vec3 w;
       const int32_t ce = locate(mesh, e, y[c], &w);
       Vec2 v = v_p;  // a corner outside the mesh or the stencil moves with the particle

@@ -22,7 +22,6 @@ void reset_stencil(Stencil& stencil, ShapeFamily family, const Mesh& mesh, std::
     stencil.share_gradients(nullptr);
     stencil.inverse_inertia = Vec2::Zero();
     resize_rows(stencil, particles);
-    stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
     return;
   }
   stencil.width = 3;
@@ -43,7 +42,10 @@ void resize_rows(Stencil& stencil, std::size_t particles) {
   if (!stencil.rows_per_particle()) return;
   stencil.row_node.resize(entries, stencil.family == ShapeFamily::QuadraticBspline ? stencil.lattice.id(0, 0) : 0);
   stencil.own_dN.resize(entries, Vec2::Zero());
-  if (stencil.family == ShapeFamily::LinearCpdi) stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
+  if (stencil.family == ShapeFamily::LinearCpdi) {
+    stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
+    stencil.corner_element.resize(3 * particles, -1);
+  }
 }
 
 void compute_stencil(const Mesh& mesh, const Particles& particles, std::size_t begin, std::size_t end,

@@ -67,6 +67,11 @@ struct Stencil {
   // CPDI: each particle's own D_p^-1 = (sum_i S_ip (x_i - x_p)(x_i - x_p)^T)^-1 as (xx, xy, yx,
   // yy), [p]; the domain keeps D_p away from singular. Empty for the other families.
   std::vector<Vec4> own_inverse_inertia;
+  // CPDI: the element each domain corner was found in, [3 p + c], when the row was filled with
+  // the domain at its full size (every corner's element then shares a node with the particle's,
+  // so its nodes are in the row); -1 when the domain was shrunk. move_domains interpolates the
+  // corner velocities there instead of locating the corners again. Empty for the other families.
+  std::vector<int32_t> corner_element;
   Lattice lattice;  // QuadraticBspline: the grid pattern's, with its ghost layer
   void share_gradients(std::shared_ptr<const std::vector<Vec2>> table) {
     row_dN = std::move(table);
@@ -143,7 +148,8 @@ class StencilRows {
         dN_(stencil && !stencil->own_dN.empty() ? stencil->own_dN.data() : nullptr),
         lattice_(stencil ? &stencil->lattice : nullptr), mesh_(mesh), domain_(domain),
         own_inverse_(stencil && !stencil->own_inverse_inertia.empty() ? stencil->own_inverse_inertia.data()
-                                                                       : nullptr) {}
+                                                                       : nullptr),
+        corner_element_(stencil && !stencil->corner_element.empty() ? stencil->corner_element.data() : nullptr) {}
   void fill(std::size_t p, const Vec2& x, int32_t element, const Vec3& barycentric) const {
     if (family_ == ShapeFamily::QuadraticBspline) return fill_bspline(p, x);
     if (family_ == ShapeFamily::LinearCpdi) return fill_cpdi(p, x, element, barycentric);
@@ -245,6 +251,8 @@ class StencilRows {
     Vec2 y[3];
     for (int c = 0; c < 3; ++c) y[c] = x + scale * (corner[c] - x);
     const double twice_area = (y[1] - y[0]).x() * (y[2] - y[0]).y() - (y[1] - y[0]).y() * (y[2] - y[0]).x();
+    const bool full_size = scale == 1 && std::abs(twice_area) > 0;
+    for (int c = 0; c < 3; ++c) corner_element_[3 * p + c] = full_size ? corner_element[c] : -1;
     int used = 0;
     if (scale <= 0 || !(std::abs(twice_area) > 0)) {  // on the boundary: the element's linear weights
       for (int k = 0; k < 3; ++k) {
@@ -302,6 +310,7 @@ class StencilRows {
   const Mesh* mesh_;
   const Vec2* domain_;
   Vec4* own_inverse_;
+  int32_t* corner_element_;
 };
 
 }  // namespace talus::solver
