@@ -51,7 +51,10 @@ std::string describe(const Setting& s) {
 Row measure(const std::string& scene, const Setting& setting, const Options& options) {
   Row row;
   row.setting = setting;
-  const std::string file = bench::scene_path(scene);
+  // The lattice needs an axis-aligned domain: with B-splines the box slides on the level slab of
+  // box_incline_level.toml under tilted gravity, the same exact answer.
+  const std::string file =
+      bench::scene_path(options.bspline && scene == "box_incline" ? std::string("box_incline_level") : scene);
   std::vector<std::string> overrides = options.overrides;
   if (options.bspline) {  // the spring-mass scene's mixed integration is for linear triangles
     for (const char* o : {"run.shape_functions=bspline", "mesh.pattern=grid", "run.integration=material_points"})
@@ -83,7 +86,7 @@ Row measure(const std::string& scene, const Setting& setting, const Options& opt
       std::string other;
       for (const Body& b : parsed.bodies)
         if (b.name != post.body) other = b.name;
-      const auto check = bench::box_incline_check(results, post.body, post.incline_angle, parsed.run.gravity.norm(),
+      const auto check = bench::box_incline_check(results, post.body, post.incline_angle, parsed.run.gravity,
                                                   pair_friction(parsed.contact, post.body, other));
       if (check.relative_error.size() != 4 || !check.relative_error.back())
         throw Error("box_incline: the run does not reach the four check times");

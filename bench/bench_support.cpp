@@ -102,7 +102,7 @@ postproc::SpringMassCheck spring_mass_check(const std::string& results_file, con
 }
 
 postproc::BoxInclineCheck box_incline_check(const std::string& results_file, const std::string& body,
-                                            double angle_deg, double gravity, double friction) {
+                                            double angle_deg, const Eigen::Vector2d& gravity, double friction) {
   const BodyTrack track = track_body(results_file, body);
   std::vector<Eigen::Vector2d> displacement;
   for (const auto& c : track.centre) displacement.push_back(c - track.initial);

@@ -3,7 +3,11 @@
 // x = s cos(a) + n sin(a), y = -s sin(a) + n cos(a). The surface is a slab 0.1 m thick with
 // a wall at its lower end; the box sits near its upper end. Bodies and domain share lines,
 // so the mesh follows every body edge.
-a = 30 * Pi / 180;  // inclination
+// With the parameter level = 1 the points are not rotated: the slab lies level along the
+// domain's base, an axis-aligned rectangle, and the scene tilts gravity instead
+// (box_incline_level.toml, which the grid pattern and B-splines can run).
+DefineConstant[ level = {0, Min 0, Max 1, Name "Parameters/level"} ];
+a = 30 * Pi / 180 * (1 - level);  // rotation of the geometry: the inclination, or none
 ca = Cos(a);
 sa = Sin(a);
 L = 1.6;     // surface length, m (1.2 m of sliding in 1 s at mu = 0.3 needs more than 1 m)

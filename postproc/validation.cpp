@@ -22,12 +22,17 @@ SpringMassCheck spring_mass_check(const std::vector<double>& time, const std::ve
 }
 
 BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::vector<Eigen::Vector2d>& displacement,
-                                  double angle_deg, double gravity, double friction) {
+                                  double angle_deg, const Eigen::Vector2d& gravity, double friction) {
   BoxInclineCheck check;
   const double a = angle_deg * M_PI / 180.0;
-  check.acceleration = std::max(gravity * (std::sin(a) - friction * std::cos(a)), 0.0);
-  const double side = (!displacement.empty() && displacement.back().x() < 0) ? -1.0 : 1.0;
-  const Eigen::Vector2d downhill(side * std::cos(a), -std::sin(a));
+  const double g = gravity.norm();
+  check.acceleration = std::max(g * (std::sin(a) - friction * std::cos(a)), 0.0);
+  const Eigen::Vector2d down = g > 0 ? Eigen::Vector2d(gravity / g) : Eigen::Vector2d(0, -1);
+  const double turn = M_PI / 2 - a, c = std::cos(turn), s = std::sin(turn);
+  const Eigen::Vector2d one_way(c * down.x() - s * down.y(), s * down.x() + c * down.y());  // counter-clockwise
+  const Eigen::Vector2d other_way(c * down.x() + s * down.y(), -s * down.x() + c * down.y());
+  const bool other = !displacement.empty() && displacement.back().dot(other_way) > displacement.back().dot(one_way);
+  const Eigen::Vector2d downhill = other ? other_way : one_way;
   check.time = time;
   for (std::size_t k = 0; k < time.size(); ++k) {
     check.along_slope.push_back(displacement[k].dot(downhill));

@@ -32,11 +32,14 @@ struct BoxInclineCheck {
   double max_abs_displacement = 0;  // m
 };
 
-// displacement: the box's centre-of-mass displacement from its initial position at each frame time. The downhill
-// direction is (cos a, -sin a) or (-cos a, -sin a), whichever the box's final x displacement
-// points along (the first when it has not moved).
+// displacement: the box's centre-of-mass displacement from its initial position at each frame
+// time; gravity: the scene's gravity vector (m/s^2). The downhill direction is gravity's
+// direction turned by 90 - a degrees either way, whichever the box's final displacement points
+// along more (counter-clockwise when it has not moved): with gravity (0, -g) it is (cos a, -sin a)
+// or (-cos a, -sin a), a slope rotated in the plane; with gravity tilted by a, g (sin a, -cos a),
+// it is (1, 0), a level slab in the slope's own frame (geometries/box_incline_level.toml).
 BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::vector<Eigen::Vector2d>& displacement,
-                                  double angle_deg, double gravity, double friction);
+                                  double angle_deg, const Eigen::Vector2d& gravity, double friction);
 
 // Linear interpolation of samples (t_i, y_i) at t; empty outside [t_0, t_last].
 std::optional<double> interpolate(const std::vector<double>& t, const std::vector<double>& y, double at);

@@ -34,7 +34,7 @@ TEST(BoxIncline, ExactMotionDownEitherSide) {
       displacement.emplace_back(side * s * std::cos(M_PI / 6), -s * std::sin(M_PI / 6));
     }
     displacement[10] *= 1.02;  // t = 0.5 s: 2% long
-    const BoxInclineCheck check = box_incline_check(t, displacement, angle, g, mu);
+    const BoxInclineCheck check = box_incline_check(t, displacement, angle, Eigen::Vector2d(0, -g), mu);
     EXPECT_NEAR(check.acceleration, 2.402, 1e-3);
     ASSERT_EQ(check.check_times.size(), 4u);
     EXPECT_NEAR(*check.relative_error[0], 0, 1e-12);
@@ -43,10 +43,31 @@ TEST(BoxIncline, ExactMotionDownEitherSide) {
   }
 }
 
+// The same slide on a level slab with gravity tilted by the incline (box_incline_level.toml):
+// down the slope is along x, the way gravity's x component points, and a slide across it (along
+// y) is not counted.
+TEST(BoxIncline, LevelSlabUnderTiltedGravity) {
+  const double mu = 0.3, a = 10 * (0.5 - mu * std::sqrt(3.0) / 2);
+  for (double side : {1.0, -1.0}) {
+    const Eigen::Vector2d gravity(side * 5.0, -10 * std::sqrt(3.0) / 2);
+    std::vector<double> t;
+    std::vector<Eigen::Vector2d> displacement;
+    for (int k = 0; k <= 20; ++k) {
+      t.push_back(0.05 * k);
+      displacement.emplace_back(side * 0.5 * a * t.back() * t.back(), 1e-4 * k);
+    }
+    const BoxInclineCheck check = box_incline_check(t, displacement, 30, gravity, mu);
+    EXPECT_NEAR(check.acceleration, a, 1e-12);
+    ASSERT_EQ(check.relative_error.size(), 4u);
+    for (const auto& e : check.relative_error) EXPECT_NEAR(*e, 0, 1e-12);
+    EXPECT_NEAR(check.along_slope.back(), 0.5 * a, 1e-12);
+  }
+}
+
 TEST(BoxIncline, StaysPutWhenFrictionHolds) {
   const std::vector<double> t = {0, 0.5, 1.0};
   const std::vector<Eigen::Vector2d> displacement(3, Eigen::Vector2d(1e-5, 0));
-  const BoxInclineCheck check = box_incline_check(t, displacement, 30, 10, 0.6);
+  const BoxInclineCheck check = box_incline_check(t, displacement, 30, Eigen::Vector2d(0, -10), 0.6);
   EXPECT_EQ(check.acceleration, 0);
   EXPECT_FALSE(check.relative_error[0]);
   EXPECT_NEAR(check.max_abs_displacement, 1e-5, 1e-15);
