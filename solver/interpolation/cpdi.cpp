@@ -44,33 +44,36 @@ void move_domains(const Mesh& mesh, Particles& P, const Stencil& stencil, const 
     const int32_t* nodes = stencil.nodes(p);
     const double* N = stencil.weights(p);
     const int32_t e = P.element[p];
-    Vec2 v_p = Vec2::Zero();
-    for (int k = 0; k < stencil.width; ++k) v_p += N[k] * grid.v[nodes[k]];
+    // A corner outside the mesh or the row moves with the particle.
+    auto particle_velocity = [&] {
+      Vec2 v_p = Vec2::Zero();
+      for (int k = 0; k < stencil.width; ++k) v_p += N[k] * grid.v[nodes[k]];
+      return v_p;
+    };
+    auto in_row = [&](int32_t element) {
+      for (int32_t i : mesh.triangles[element]) {
+        bool found = false;
+        for (int k = 0; k < stencil.width && !found; ++k) found = nodes[k] == i;
+        if (!found) return false;
+      }
+      return true;
+    };
     Vec2* y = &P.domain[3 * static_cast<std::size_t>(p)];
     const int32_t* found_in = &stencil.corner_element[3 * static_cast<std::size_t>(p)];
     for (int c = 0; c < 3; ++c) {
-      if (found_in[c] >= 0) {  // where fill_cpdi found it: the element's nodes are in the row
-        const int32_t ce = found_in[c];
-        const Vec3 w = mesh.weights(ce, y[c]);
-        Vec2 v = Vec2::Zero();
-        for (int k = 0; k < 3; ++k) v += w[k] * grid.v[mesh.triangles[ce][k]];
-        y[c] += dt * v;
-        continue;
-      }
+      int32_t ce = found_in[c];
       Vec3 w;
-      const int32_t ce = locate(mesh, e, y[c], &w);
-      Vec2 v = v_p;  // a corner outside the mesh or the stencil moves with the particle
+      if (ce >= 0) {  // where fill_cpdi found it: the element's nodes are in the row
+        w = mesh.weights(ce, y[c]);
+      } else {
+        ce = locate(mesh, e, y[c], &w);
+        if (ce >= 0 && !in_row(ce)) ce = -1;
+      }
+      Vec2 v = Vec2::Zero();
       if (ce >= 0) {
-        bool in_stencil = true;
-        for (int32_t i : mesh.triangles[ce]) {
-          bool found = false;
-          for (int k = 0; k < stencil.width && !found; ++k) found = nodes[k] == i;
-          in_stencil = in_stencil && found;
-        }
-        if (in_stencil) {
-          v.setZero();
-          for (int k = 0; k < 3; ++k) v += w[k] * grid.v[mesh.triangles[ce][k]];
-        }
+        for (int k = 0; k < 3; ++k) v += w[k] * grid.v[mesh.triangles[ce][k]];
+      } else {
+        v = particle_velocity();
       }
       y[c] += dt * v;
     }
