@@ -215,10 +215,10 @@ int main(int argc, char** argv) {
       }
     } else return usage(argv[0], arg == "--help" || arg == "-h" ? 0 : 1);
   }
-  std::string skipped;
+  std::string family_note;
   if (options.bspline &&
       std::find(options.scenes.begin(), options.scenes.end(), "box_incline") != options.scenes.end())
-    skipped = "box_incline runs as geometries/box_incline_level.toml with B-splines: the same slide on a level slab "
+    family_note = "box_incline runs as geometries/box_incline_level.toml with B-splines: the same slide on a level slab "
               "under gravity tilted by 30 degrees, since the lattice needs an axis-aligned rectangle and "
               "box_incline.geo's domain is rotated with the incline.\n\n";
   if (options.smallest)  // the slope needs several runs to say anything
@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(options.out);
 
   std::ostringstream md;
-  md << "# Accuracy benchmark" << (options.bspline ? " (quadratic B-splines)" : "") << "\n\n" << skipped;
+  md << "# Accuracy benchmark" << (options.bspline ? " (quadratic B-splines)" : "") << "\n\n" << family_note;
   std::size_t total = 0, done = 0;
   for (const auto& scene : options.scenes) total += settings_for(scene, options).size();
   const double start = bench::now_seconds();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 namespace talus::postproc {
 
 SpringMassCheck spring_mass_check(const std::vector<double>& time, const std::vector<double>& centre_y,
@@ -28,9 +30,8 @@ BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::ve
   const double g = gravity.norm();
   check.acceleration = std::max(g * (std::sin(a) - friction * std::cos(a)), 0.0);
   const Eigen::Vector2d down = g > 0 ? Eigen::Vector2d(gravity / g) : Eigen::Vector2d(0, -1);
-  const double turn = M_PI / 2 - a, c = std::cos(turn), s = std::sin(turn);
-  const Eigen::Vector2d one_way(c * down.x() - s * down.y(), s * down.x() + c * down.y());  // counter-clockwise
-  const Eigen::Vector2d other_way(c * down.x() + s * down.y(), -s * down.x() + c * down.y());
+  const Eigen::Vector2d one_way = Eigen::Rotation2Dd(M_PI / 2 - a) * down;  // counter-clockwise
+  const Eigen::Vector2d other_way = Eigen::Rotation2Dd(a - M_PI / 2) * down;
   const bool other = !displacement.empty() && displacement.back().dot(other_way) > displacement.back().dot(one_way);
   const Eigen::Vector2d downhill = other ? other_way : one_way;
   check.time = time;
