@@ -11,6 +11,7 @@
 
 #include "solver/boundary/boundary.hpp"
 #include "solver/interpolation/grid.hpp"
+#include "solver/interpolation/mesh.hpp"
 #include "solver/interpolation/stencil.hpp"
 #include "solver/step/particles.hpp"
 
@@ -22,7 +23,18 @@ struct ContactRules {
   const std::vector<std::vector<double>>& pair_friction;  // [field][field]
   const std::vector<uint8_t>& field_fixed;
   const Constraints& constraints;
+  // [node], m: the size of the node's elements, sqrt(2 x their mean area) (h for the grid
+  // pattern's right triangles); empty without a fixed field. It scales a fixed body's mass
+  // gradient to tell the body's surface from its inside (docs/contact.md, "Rigid support").
+  const std::vector<double>& node_length;
+  // The stencil reaches beyond the particle's element (B-splines, CPDI): a body's mass lands
+  // round a fixed body's corners, where contact then skips it (docs/contact.md).
+  bool wide_stencil;
 };
+
+// The node_length of ContactRules for `mesh`: zero at a node no element holds (the lattice's
+// ghosts).
+std::vector<double> element_lengths_at_nodes(const Mesh& mesh);
 
 // Rebuilt every step by find_contact_nodes.
 struct ContactScratch {

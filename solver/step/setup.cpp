@@ -151,6 +151,8 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   if (config.contact) {
     config.pair_friction = std::move(groups.friction);
     config.field_fixed = std::move(groups.fixed);
+    if (std::find(config.field_fixed.begin(), config.field_fixed.end(), 1) != config.field_fixed.end())
+      config.node_length = element_lengths_at_nodes(config.mesh);
     sim.scratch.grids.field_index = std::move(groups.of_body);
   } else {
     // One velocity field: a fixed body is a rigid support, so the nodes it touches do not move.

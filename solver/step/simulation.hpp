@@ -28,6 +28,7 @@ struct Config {
   bool contact = false;
   std::vector<std::vector<double>> pair_friction;  // [field][field], Coulomb coefficient
   std::vector<uint8_t> field_fixed;                // [field]: a fixed body's (contact only)
+  std::vector<double> node_length;                 // [node], m: ContactRules::node_length
 
   Vec2 gravity{0, -9.81};    // full gravity (m/s^2)
   double gravity_ramp = 0;   // s; see RunSettings::gravity_ramp

@@ -45,7 +45,7 @@ bool step(Simulation& sim, double dt) {
   Particles& P = sim.particles;
   Scratch& s = sim.scratch;
   const int threads = c.threads;
-  const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints};
+  const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints, c.node_length, s.stencil.width > 3};
   const bool distributed = sim.domain.distributed();
   PhaseClock clock(s.phase_times);
 
