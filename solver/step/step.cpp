@@ -45,7 +45,8 @@ bool step(Simulation& sim, double dt) {
   Particles& P = sim.particles;
   Scratch& s = sim.scratch;
   const int threads = c.threads;
-  const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints, c.node_length, s.stencil.width > 3};
+  const ContactRules contact{c.pair_friction, c.field_fixed, c.constraints, c.node_length,
+                             s.stencil.family != ShapeFamily::LinearTriangle};
   const bool distributed = sim.domain.distributed();
   PhaseClock clock(s.phase_times);
 
