@@ -295,7 +295,7 @@ std::vector<Row> rows() {
        [](auto d) { return scene_change(d, "particles_per_cell = 4", "particles_per_cell = 5"); },
        {"bodies.block.particles_per_cell", "expected 1, 3, 4, 6 or 10"}},
       {"unknown material model", [](auto d) { return scene_change(d, "\"mohr_coulomb\"", "\"plasticine\""); },
-       {"materials.rock.model", "plasticine", "linear_elastic or mohr_coulomb"}},
+       {"materials.rock.model", "plasticine", "linear_elastic, mohr_coulomb or mu_i"}},
       {"body named like a reserved dataset", [](auto d) { return scene_change(d, "[bodies.block]", "[bodies.names]\ngroup = \"block\""); },
        {"bodies.names", "not 'names'"}},
       {"load on a curve off every body's outline",

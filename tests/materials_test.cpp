@@ -39,9 +39,9 @@ std::vector<std::pair<std::string, double>> values_of(const Material& m) {
 
 TEST(Registry, EveryModelIsFoundByItsNameAndNoOther) {
   const std::string names = model_names();
-  EXPECT_EQ(names, "linear_elastic or mohr_coulomb");
+  EXPECT_EQ(names, "linear_elastic, mohr_coulomb or mu_i");
   std::size_t found = 0;
-  for (const char* name : {"linear_elastic", "mohr_coulomb"}) {
+  for (const char* name : {"linear_elastic", "mohr_coulomb", "mu_i"}) {
     Material m;
     ASSERT_TRUE(set_model(m, name));
     EXPECT_EQ(model_name(m), name);
@@ -64,7 +64,7 @@ TEST(Registry, TheScenesDocumentListsEveryKeyOfEveryModel) {
   for (auto it = std::sregex_iterator(table.begin(), table.end(), row); it != std::sregex_iterator(); ++it)
     documented.insert((*it)[1]);
   std::set<std::string> visited{"model"};
-  for (const char* name : {"linear_elastic", "mohr_coulomb"}) {
+  for (const char* name : {"linear_elastic", "mohr_coulomb", "mu_i"}) {
     Material m;
     set_model(m, name);
     for (const auto& [key, value] : values_of(m)) visited.insert(key);

@@ -15,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "support/mohr_coulomb_reference.hpp"
+#include "support/simple_shear.hpp"
 
 namespace talus {
 namespace {
@@ -90,9 +91,8 @@ TEST(MohrCoulomb, UniaxialCompressionYieldsAtTheTextbookStrength) {
   }
 }
 
-// Simple shear under a constant normal stress, as in a simple-shear or direct-shear apparatus:
-// the horizontal strain held at zero, the vertical strain free so that sigma_yy stays at -p. Once
-// the sample flows steadily, the ratio of shear to normal stress on the horizontal plane is
+// Simple shear under a constant normal stress (support/simple_shear.hpp). Once the sample flows
+// steadily, the ratio of shear to normal stress on the horizontal plane is
 //   tau_xy / p = sin(phi) cos(psi) / (1 - sin(phi) sin(psi))
 // (Davis 1968, "Theories of plasticity and the failure of soil masses"): tan(phi) for associated
 // flow, sin(phi) for the non-dilatant flow of a granular material at its critical state. A friction
@@ -105,27 +105,11 @@ TEST(MohrCoulomb, SteadySimpleShearMobilisesDavissStressRatio) {
     SCOPED_TRACE("psi " + std::to_string(psi));
     const MohrCoulombConstants p = MohrCoulombConstants::from(e, 0.3, phi, 0, psi, -1);
     const double s = std::sin(phi * pi / 180), davis = s * std::cos(psi * pi / 180) / (1 - s * std::sin(psi * pi / 180));
-    Eigen::Vector4d sigma(-0.5 * p_normal, -p_normal, -0.5 * p_normal, 0);  // k0 = 0.5
     const double d_gamma = p_normal / e / 20;  // tensor shear increments of 1/20 of a yield strain
-    double ratio = 0;
-    for (int step = 1; step <= 4000; ++step) {
-      const auto after = [&](double d_yy) {
-        Eigen::Vector4d next = sigma;
-        mohr_coulomb_update(p, next, Eigen::Vector4d(0, d_yy, 0, 0.5 * d_gamma));
-        return next;
-      };
-      // sigma_yy falls as d_yy grows (compression negative): bisect for sigma_yy = -p.
-      double low = -10 * d_gamma, high = 10 * d_gamma;
-      ASSERT_LT(after(low)[1], -p_normal);
-      ASSERT_GT(after(high)[1], -p_normal);
-      for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (low + high);
-        if (mid == low || mid == high) break;
-        (after(mid)[1] < -p_normal ? low : high) = mid;
-      }
-      sigma = after(0.5 * (low + high));
-      ratio = sigma[3] / p_normal;
-    }
+    const Eigen::Vector4d sigma = testing::sheared_under_normal_stress(
+        [&](Eigen::Vector4d& stress, const Eigen::Vector4d& d_eps) { mohr_coulomb_update(p, stress, d_eps); },
+        Eigen::Vector4d(-0.5 * p_normal, -p_normal, -0.5 * p_normal, 0), p_normal, d_gamma, 4000);  // k0 = 0.5
+    const double ratio = sigma[3] / p_normal;
     EXPECT_NEAR(sigma[1], -p_normal, 1e-9 * p_normal);
     EXPECT_NEAR(ratio, davis, 1e-4);
     // What the test tells apart: sin 32 = 0.530 and tan 32 = 0.625.

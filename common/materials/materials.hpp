@@ -1,6 +1,6 @@
 // The materials: the one list of the constitutive models, and what the rest of Talus asks of a
 // material through it. Each model is one unit, a struct in its own file of this folder
-// (linear_elastic.hpp, mohr_coulomb.hpp) that declares its name, its parameter struct with the
+// (linear_elastic.hpp, mohr_coulomb.hpp, mu_i.hpp) that declares its name, its parameter struct with the
 // one visitor that lists its keys, its cross-parameter rules, its prepared state, its stress
 // update, its history width and its strength (docs/architecture.md, "Materials", gives the
 // recipe for a new one). Nothing outside this folder names a model but through this header.
@@ -17,6 +17,7 @@
 
 #include "common/materials/linear_elastic.hpp"
 #include "common/materials/mohr_coulomb.hpp"
+#include "common/materials/mu_i.hpp"
 #include "common/materials/parameter.hpp"
 
 namespace talus {
@@ -34,7 +35,8 @@ struct ModelList {
 // its tests. The first is the default of a Material.
 using MaterialModels = ModelList<
     LinearElastic,
-    MohrCoulomb>;
+    MohrCoulomb,
+    MuI>;
 
 // A material's model with its own parameters (the alternative says which model it is).
 using MaterialParameters = MaterialModels::Parameters;
@@ -51,7 +53,7 @@ struct Material : SharedParameters {
 // Calls f(Model{}, alternative) for the model whose alternative `v` (a MaterialParameters or a
 // PreparedMaterial, const or not) holds: a test of the index per model and no virtual call; the
 // last model is taken by elimination (a variant here never is valueless: nothing that fills one
-// throws), so with two models each takes one test, as a switch would.
+// throws), so the last two models share one test, as a switch's would.
 template <std::size_t I = 0, class Variant, class F>
 inline decltype(auto) with_model(Variant& v, F&& f) {
   using Model = typename MaterialModels::template At<I>;

@@ -81,13 +81,9 @@ inline double yield_from_extremes(const MohrCoulombConstants& p, double s_max, d
 // cut-off); d_gamma_p as defined above. mohr_coulomb_update's second half (mohr_coulomb.cpp).
 double mohr_coulomb_return(const MohrCoulombConstants& p, Eigen::Vector4d& sigma);
 
-// Elastic trial then return mapping onto the Mohr-Coulomb surface (and the tension cut-off).
-// Returns d_gamma_p as defined above (0 for an elastic step, and then sigma is exactly the
-// elastic trial). No heap, no virtual calls. Inline up to the test that settles most particles
-// (they stay well inside the surface), so that their stress stays in registers.
-inline double mohr_coulomb_update(const MohrCoulombConstants& p, Eigen::Vector4d& sigma,
-                                  const Eigen::Vector4d& d_eps) {
-  elastic_update(p.shear_modulus, p.bulk_modulus, sigma, d_eps);
+// Whether sigma is inside the surface (and the cut-off), decided without a square root: true
+// settles most particles; false may still be inside, which mohr_coulomb_return then finds.
+inline bool mohr_coulomb_surely_inside(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma) {
   // f grows with Mohr's radius R (the largest principal stress rises, the smallest falls), so f
   // at an upper bound of R that needs no square root, |sigma_xx - sigma_yy| / 2 + |sigma_xy|
   // (raised by 1e-15, more than the rounding of R can add), settles them: f(R) <= f(bound) <= 0
@@ -95,8 +91,17 @@ inline double mohr_coulomb_update(const MohrCoulombConstants& p, Eigen::Vector4d
   const double centre = 0.5 * (sigma[0] + sigma[1]);
   const double bound = (std::abs(0.5 * (sigma[0] - sigma[1])) + std::abs(sigma[3])) * (1.0 + 1e-15);
   const double upper = std::max(centre + bound, sigma[2]), lower = std::min(centre - bound, sigma[2]);
-  if (yield_from_extremes(p, upper, lower) <= 0.0 && (p.tensile_strength < 0.0 || upper <= p.tensile_strength))
-    return 0.0;
+  return yield_from_extremes(p, upper, lower) <= 0.0 && (p.tensile_strength < 0.0 || upper <= p.tensile_strength);
+}
+
+// Elastic trial then return mapping onto the Mohr-Coulomb surface (and the tension cut-off).
+// Returns d_gamma_p as defined above (0 for an elastic step, and then sigma is exactly the
+// elastic trial). No heap, no virtual calls. Inline up to the test that settles most particles
+// (they stay well inside the surface), so that their stress stays in registers.
+inline double mohr_coulomb_update(const MohrCoulombConstants& p, Eigen::Vector4d& sigma,
+                                  const Eigen::Vector4d& d_eps) {
+  elastic_update(p.shear_modulus, p.bulk_modulus, sigma, d_eps);
+  if (mohr_coulomb_surely_inside(p, sigma)) return 0.0;
   return mohr_coulomb_return(p, sigma);
 }
 
