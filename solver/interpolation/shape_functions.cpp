@@ -43,7 +43,7 @@ void resize_rows(Stencil& stencil, std::size_t particles) {
   stencil.row_node.resize(entries, stencil.family == ShapeFamily::QuadraticBspline ? stencil.lattice.id(0, 0) : 0);
   stencil.own_dN.resize(entries, Vec2::Zero());
   if (stencil.family == ShapeFamily::LinearCpdi) {
-    stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
+    if (stencil.affine) stencil.own_inverse_inertia.resize(particles, Vec4::Zero());
     stencil.corner_element.resize(3 * particles, -1);
   }
 }

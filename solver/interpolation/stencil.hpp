@@ -65,8 +65,12 @@ struct Stencil {
   // (to_particles.cpp, affine_matrix).
   Vec2 inverse_inertia = Vec2::Zero();
   // CPDI: each particle's own D_p^-1 = (sum_i S_ip (x_i - x_p)(x_i - x_p)^T)^-1 as (xx, xy, yx,
-  // yy), [p]; the domain keeps D_p away from singular. Empty for the other families.
+  // yy), [p]; the domain keeps D_p away from singular. Empty for the other families and without
+  // `affine`.
   std::vector<Vec4> own_inverse_inertia;
+  // The transfer carries an affine velocity (APIC), so CPDI's rows keep own_inverse_inertia;
+  // with the other transfers it is neither sized nor filled. Set before reset_stencil.
+  bool affine = false;
   // CPDI: the element each domain corner was found in, [3 p + c], when the row was filled with
   // the domain at its full size (every corner's element then shares a node with the particle's,
   // so its nodes are in the row); -1 when the domain was shrunk. move_domains interpolates the
@@ -291,6 +295,7 @@ class StencilRows {
     }
     // APIC's inertia D_p; where it is singular (a particle on the boundary at a node) the
     // inverse is zero and C_p falls to zero for that step.
+    if (!own_inverse_) return;
     double dxx = 0, dxy = 0, dyy = 0;
     for (int k = 0; k < used; ++k) {
       const Vec2 r = mesh_->nodes[nodes[k]] - x;

@@ -137,6 +137,7 @@ Simulation build_simulation(const Model& model, Model* owned, int threads) {
   prepare_particle_materials(config.materials, config.material_of_body, sim.particles);
   if (owned) release_particles(*owned);
   initial_pore_pressures(sim.particles, config, 0);
+  sim.scratch.stencil.affine = config.transfer == Transfer::Apic;
   reset_stencil(sim.scratch.stencil, family, config.mesh, sim.particles.size());
   sort_particles(sim);
   sim.reorders = 0;
