@@ -66,7 +66,7 @@ def plot_error_against_time(rows, scene, path):
     plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_major_formatter(plain)
     ax.yaxis.set_minor_formatter(plain)
-    ax.set_xlabel("wall time per run (s, meshing + solve, 1 thread)")
+    ax.set_xlabel("wall time per run (s, meshing + solve, on the sweep's --threads)")
     ax.set_ylabel("error (%)")
     ax.set_title(SCENE_TITLES.get(scene, scene), fontsize=10)
     # Legend: colour = element size, marker = particles per cell, marker size = CFL.
