@@ -138,9 +138,18 @@ TEST(MuI, RegistryChecksReducesAndGivesBishopItsAngle) {
   EXPECT_FALSE(material_problem(beads));
   EXPECT_TRUE(has_strength(beads));
   EXPECT_EQ(history_width(beads), 0);
+  // Reduced as the Mohr-Coulomb material of sin(phi) = mu is: tan(phi) / F.
+  const auto tan_phi = [](double mu) { return mu / std::sqrt(1 - mu * mu); };
   const Material half = reduced(beads, 2);
-  EXPECT_DOUBLE_EQ(parameters_of<MuI>(half).mu_static, parameters_of<MuI>(beads).mu_static / 2);
-  EXPECT_DOUBLE_EQ(parameters_of<MuI>(half).mu_limit, parameters_of<MuI>(beads).mu_limit / 2);
+  EXPECT_NEAR(tan_phi(parameters_of<MuI>(half).mu_static), tan_phi(parameters_of<MuI>(beads).mu_static) / 2, 1e-14);
+  EXPECT_NEAR(tan_phi(parameters_of<MuI>(half).mu_limit), tan_phi(parameters_of<MuI>(beads).mu_limit) / 2, 1e-14);
+  // Raised (F < 1, as talus fos brackets) the coefficients stay below 1 and in order.
+  for (const double factor : {0.5, 0.1, 0.01}) {
+    const Material raised = reduced(beads, factor);
+    EXPECT_FALSE(material_problem(raised)) << "F " << factor;
+    EXPECT_LT(parameters_of<MuI>(raised).mu_limit, 1.0);
+    EXPECT_GT(parameters_of<MuI>(raised).mu_static, parameters_of<MuI>(beads).mu_static);
+  }
   EXPECT_NEAR(limit_equilibrium_strength(beads)->friction_angle, 20.9, 1e-12);
   EXPECT_EQ(limit_equilibrium_strength(beads)->cohesion, 0);
   parameters_of<MuI>(beads).mu_limit = 0.3;  // below mu_static

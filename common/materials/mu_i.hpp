@@ -106,12 +106,16 @@ struct MuI {
     eps_p += mohr_coulomb_return(flowing, sigma);
   }
 
-  // Strength reduction by F: both coefficients / F (the rate's share shrinks with them).
+  // Strength reduction by F as Mohr-Coulomb's (docs/fos.md), on the angle each coefficient
+  // stands for: sin(phi) = mu, tan(phi_F) = tan(phi) / F, mu_F = sin(phi_F). A coefficient
+  // divided by F itself would pass 1, where no angle has that sine, as soon as F < mu (a
+  // strength raised to find a bracket).
   static constexpr bool kHasStrength = true;
   static Parameters reduced(const Parameters& p, double factor) {
+    const auto reduce = [factor](double mu) { return std::sin(std::atan(std::tan(std::asin(mu)) / factor)); };
     Parameters out = p;
-    out.mu_static /= factor;
-    out.mu_limit /= factor;
+    out.mu_static = reduce(p.mu_static);
+    out.mu_limit = reduce(p.mu_limit);
     return out;
   }
   // Bishop's method: no cohesion, tan(phi) = mu_s on the slip surface.
