@@ -96,31 +96,8 @@ namespace {
 const char* const kK0 = "[bodies.layer.initial_stress]\nk0 = 0.5\n";
 void write_layer(const ScratchDir& dir, const std::string& run, const std::string& material, const std::string& body,
                  const std::string& extra) {
-  std::ofstream(dir.file("layer.geo")) << R"(// A horizontal layer under empty space.
-lc = 0.25;
-Point(1) = {0, 0, 0, lc};
-Point(2) = {4, 0, 0, lc};
-Point(3) = {4, 2, 0, lc};
-Point(4) = {0, 2, 0, lc};
-Point(5) = {4, 3, 0, lc};
-Point(6) = {0, 3, 0, lc};
-Line(1) = {1, 2};
-Line(2) = {2, 3};
-Line(3) = {3, 4};
-Line(4) = {4, 1};
-Line(5) = {3, 5};
-Line(6) = {5, 6};
-Line(7) = {6, 4};
-Curve Loop(1) = {1, 2, 3, 4};
-Plane Surface(1) = {1};
-Curve Loop(2) = {-3, 5, 6, 7};
-Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("layer") = {1};
-Physical Curve("base") = {1};
-Physical Curve("left") = {4, 7};
-Physical Curve("right") = {2, 5};
-)";
+  std::ofstream(dir.file("layer.geo")) << talus::testing::stacked_rectangles_geo(
+      4, 2, 3, 0.25, "Physical Surface(\"layer\") = {1};\nPhysical Curve(\"base\") = {1};\n");
   std::ofstream(dir.file("layer.toml")) << R"([scene]
 geometry = "layer.geo"
 

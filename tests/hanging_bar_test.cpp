@@ -130,30 +130,8 @@ TEST(HangingBar, CpdiSettlesWhereTheExactSolutionDoesOnDelaunayTriangles) {
   const double E = kDensity * kGravity * kLength * kLength / (2 * end_cells * kCell);
   const double period = 4 * kLength / std::sqrt(E / kDensity);
   ScratchDir dir("hanging_bar_delaunay");
-  std::ofstream(dir.file("bar.geo")) << "w = " << width << "; b = " << below << "; t = " << top << R"(;
-Point(1) = {0, 0, 0};
-Point(2) = {w, 0, 0};
-Point(3) = {w, b, 0};
-Point(4) = {0, b, 0};
-Point(5) = {w, t, 0};
-Point(6) = {0, t, 0};
-Line(1) = {1, 2};
-Line(2) = {2, 3};
-Line(3) = {3, 4};
-Line(4) = {4, 1};
-Line(5) = {3, 5};
-Line(6) = {5, 6};
-Line(7) = {6, 4};
-Curve Loop(1) = {1, 2, 3, 4};
-Plane Surface(1) = {1};
-Curve Loop(2) = {-3, 5, 6, 7};
-Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("bar") = {2};
-Physical Curve("top") = {6};
-Physical Curve("left") = {4, 7};
-Physical Curve("right") = {2, 5};
-)";
+  std::ofstream(dir.file("bar.geo")) << testing::stacked_rectangles_geo(
+      width, below, top, 0, "Physical Surface(\"bar\") = {2};\nPhysical Curve(\"top\") = {6};\n");
   std::ofstream(dir.file("bar.toml")) << "[scene]\ngeometry = \"bar.geo\"\n\n[mesh]\nsize = " << kCell
                                       << "\npattern = \"delaunay\"\n\n[run]\nshape_functions = \"cpdi\"\nend_time = "
                                       << 12 * period << "\ngravity_ramp = " << 4 * period

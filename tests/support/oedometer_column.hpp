@@ -5,24 +5,15 @@
 
 #include <string>
 
+#include "support/test_support.hpp"
+
 namespace talus::testing {
 
 constexpr double kColumnWidth = 0.5, kColumnHeight = 2.0, kColumnLoad = 1e4, kColumnE = 1e7, kColumnNu = 0.3;
 
-inline const char* const kOedometerColumnGeo = R"(lc = 0.1;
-Point(1) = {0, 0, 0, lc}; Point(2) = {0.5, 0, 0, lc}; Point(3) = {0.5, 2, 0, lc}; Point(4) = {0, 2, 0, lc};
-Point(5) = {0.5, 2.3, 0, lc}; Point(6) = {0, 2.3, 0, lc};
-Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
-Line(5) = {3, 5}; Line(6) = {5, 6}; Line(7) = {6, 4};
-Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
-Curve Loop(2) = {-3, 5, 6, 7}; Plane Surface(2) = {2};
-Physical Surface("domain") = {1, 2};
-Physical Surface("column") = {1};
-Physical Curve("base") = {1};
-Physical Curve("left") = {4, 7};
-Physical Curve("right") = {2, 5};
-Physical Curve("crest") = {3};
-)";
+inline const std::string kOedometerColumnGeo = stacked_rectangles_geo(
+    kColumnWidth, kColumnHeight, kColumnHeight + 0.3, 0.1,
+    "Physical Surface(\"column\") = {1};\nPhysical Curve(\"base\") = {1};\nPhysical Curve(\"crest\") = {3};\n");
 
 // The scene (geometry "scene.geo"), with `material_extra` added to the soil's keys and `extra`
 // (whole tables) at the end.

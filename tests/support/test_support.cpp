@@ -74,6 +74,31 @@ double frame_difference(const std::string& a, const std::string& b, std::string&
 
 std::string source_path(const std::string& relative) { return std::string(TALUS_SOURCE_DIR) + "/" + relative; }
 
+std::string stacked_rectangles_geo(double w, double b, double t, double lc, const std::string& groups) {
+  std::ostringstream geo;
+  geo.precision(17);
+  const std::string size = lc > 0 ? ", lc" : "";
+  if (lc > 0) geo << "lc = " << lc << ";\n";
+  const double corners[6][2] = {{0, 0}, {w, 0}, {w, b}, {0, b}, {w, t}, {0, t}};
+  for (int k = 0; k < 6; ++k) geo << "Point(" << k + 1 << ") = {" << corners[k][0] << ", " << corners[k][1] << ", 0" << size << "};\n";
+  geo << R"(Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Line(5) = {3, 5};
+Line(6) = {5, 6};
+Line(7) = {6, 4};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Curve Loop(2) = {-3, 5, 6, 7};
+Plane Surface(2) = {2};
+Physical Surface("domain") = {1, 2};
+Physical Curve("left") = {4, 7};
+Physical Curve("right") = {2, 5};
+)" << groups;
+  return geo.str();
+}
+
 namespace {
 
 // Element neighbours from shared edges: the edge opposite local vertex k joins the other two.

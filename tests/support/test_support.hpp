@@ -48,6 +48,13 @@ double frame_difference(const std::string& a, const std::string& b, std::string&
 // Absolute path of a file in the source tree, e.g. source_path("geometries/slope.toml").
 std::string source_path(const std::string& relative);
 
+// A gmsh .geo of two rectangles stacked on [0, w]: surface 1 over [0, b] and surface 2 over
+// [b, t], both the physical surface "domain", with the physical curves "left" = {4, 7} and
+// "right" = {2, 5}; lines 1 (y = 0), 3 (y = b) and 6 (y = t) are the horizontal ones. `lc`: the
+// points' element size (<= 0: none, the scene's mesh.size); `groups`: the .geo's other physical
+// groups, as lines of text ("Physical Surface(\"layer\") = {1};").
+std::string stacked_rectangles_geo(double w, double b, double t, double lc, const std::string& groups);
+
 // A structured background mesh of the rectangle [x0, x0 + nx h] x [y0, y0 + ny h], each
 // square cut into two counter-clockwise triangles, with neighbours filled in and node sets
 // "bottom", "top", "left", "right". No particles, bodies or materials.
