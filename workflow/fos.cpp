@@ -124,7 +124,8 @@ void require_strength(const Model& model, const postproc::AnalysedBodies& body, 
     const Material& material = model.materials[model.bodies[index].material];
     if (!has_strength(material))
       throw Error(located(scene_path, "materials." + material.name,
-                          who + " a Mohr-Coulomb material (body '" + model.bodies[index].name + "')"));
+                          who + " a material with a strength (body '" +
+                              model.bodies[index].name + "' is " + std::string(model_name(material)) + ")"));
   }
 }
 
