@@ -185,6 +185,29 @@ TEST(FosInfiniteSlope, ShallowCohesionlessSlopeApproachesTanPhiOverTanBeta) {
   EXPECT_NEAR(json_number(json, "factor_of_safety"), expected, 0.10 * expected) << json;
 }
 
+// The same slope of a cohesionless mu(I) sand with mu_s = sin 30 deg (docs/column.md, "The mu(I)
+// material"): strength reduction takes tan(phi) / F of sin(phi) = mu, so F -> tan 30 deg /
+// tan(beta) = 1.586 as for the Mohr-Coulomb sand above; Bishop's method takes tan(phi) = mu_s on
+// the slip surface, F = mu_s / tan(beta) = 1.374. Measured: 1.625 and 1.3737.
+TEST(FosInfiniteSlope, MuOfISandIsReducedAsTheMohrCoulombSandOfSinPhiEqualToMuStatic) {
+  talus::testing::ScratchDir dir("fos_infinite_slope_mu_i");
+  const double beta = 20.0, mu_s = 0.5;
+  write_infinite_slope(dir, beta, "friction_angle = 30.0\n", "");
+  std::string scene = read_text(dir.file("infinite.toml"));
+  const std::size_t begin = scene.find("[materials.sand]"), end = scene.find("[bodies.soil]");
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  scene.replace(begin, end - begin,
+                "[materials.sand]\nmodel = \"mu_i\"\ndensity = 2000.0\nyoungs_modulus = 2.0e7\npoisson_ratio = 0.3\n"
+                "mu_static = 0.5\nmu_limit = 0.7\ninertial_number_scale = 0.279\ngrain_diameter = 1.0e-3\n");
+  std::ofstream(dir.file("infinite.toml")) << scene;
+  const std::string json = run_fos(dir);
+  const double tan_beta = std::tan(beta * M_PI / 180);
+  const double expected = std::tan(std::asin(mu_s)) / tan_beta;
+  EXPECT_NEAR(json_number(json, "factor_of_safety"), expected, 0.10 * expected) << json;
+  EXPECT_NEAR(json_number(json, "bishop_fos"), mu_s / tan_beta, 0.02 * mu_s / tan_beta) << json;
+}
+
 // The same slope with phi = 40 deg, saturated below a water table at the ground surface
 // (rho_sat = 2400 kg/m3). With u = gamma_w z at the vertical depth z below the table
 // (docs/water.md), an infinite slope has
