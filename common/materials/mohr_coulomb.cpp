@@ -22,14 +22,6 @@ namespace {
 
 constexpr double degrees_to_radians = 3.14159265358979323846 / 180.0;
 
-// Mohr's circle of the in-plane stress: principal values centre +- radius.
-struct InPlane {
-  double centre, half_difference, radius;
-  explicit InPlane(const Eigen::Vector4d& sigma)
-      : centre(0.5 * (sigma[0] + sigma[1])), half_difference(0.5 * (sigma[0] - sigma[1])),
-        radius(std::sqrt(half_difference * half_difference + sigma[3] * sigma[3])) {}
-};
-
 // s -= D e for principal vectors.
 inline void subtract_elastic(const MohrCoulombConstants& p, const double e[3], double s[3]) {
   const double lambda_trace = p.lame_lambda * (e[0] + e[1] + e[2]);
@@ -206,7 +198,7 @@ double mohr_coulomb_return(const MohrCoulombConstants& p, Eigen::Vector4d& sigma
   const bool cut_off = p.tensile_strength >= 0.0;
 
   // zz is the third principal stress beside the in-plane pair.
-  const InPlane circle(sigma);
+  const InPlaneCircle circle(sigma);
   const double in_plane_max = circle.centre + circle.radius;
   const double in_plane_min = circle.centre - circle.radius;
   const double zz = sigma[2];
@@ -244,9 +236,8 @@ double mohr_coulomb_return(const MohrCoulombConstants& p, Eigen::Vector4d& sigma
 }
 
 double mohr_coulomb_yield(const MohrCoulombConstants& p, const Eigen::Vector4d& sigma) {
-  const InPlane circle(sigma);
-  return yield_from_extremes(p, std::max(circle.centre + circle.radius, sigma[2]),
-                             std::min(circle.centre - circle.radius, sigma[2]));
+  const PrincipalExtremes s = principal_extremes(sigma);
+  return yield_from_extremes(p, s.largest, s.smallest);
 }
 
 std::optional<MaterialProblem> MohrCoulomb::rules(const Parameters& p) {

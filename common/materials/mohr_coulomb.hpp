@@ -72,6 +72,24 @@ struct MohrCoulombConstants {
                                         double cohesion, double dilation_angle_deg, double tensile_strength);
 };
 
+// Mohr's circle of the in-plane part of a plane-strain 4-vector (xx, yy, zz, xy), stress or
+// strain: in-plane principal values centre +- radius; zz is the third principal value.
+struct InPlaneCircle {
+  double centre, half_difference, radius;
+  explicit InPlaneCircle(const Eigen::Vector4d& v)
+      : centre(0.5 * (v[0] + v[1])), half_difference(0.5 * (v[0] - v[1])),
+        radius(std::sqrt(half_difference * half_difference + v[3] * v[3])) {}
+};
+
+// The largest and smallest of the three principal values of a plane-strain 4-vector.
+struct PrincipalExtremes {
+  double largest, smallest;
+};
+inline PrincipalExtremes principal_extremes(const Eigen::Vector4d& v) {
+  const InPlaneCircle circle(v);
+  return {std::max(circle.centre + circle.radius, v[2]), std::min(circle.centre - circle.radius, v[2])};
+}
+
 // f from the largest and smallest principal stresses (the middle one does not enter).
 inline double yield_from_extremes(const MohrCoulombConstants& p, double s_max, double s_min) {
   return (1.0 + p.sin_phi) * s_max - (1.0 - p.sin_phi) * s_min - p.two_c_cos_phi;

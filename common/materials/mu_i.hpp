@@ -84,15 +84,13 @@ struct MuI {
   // The largest minus the smallest principal value of d_eps (tensor shear), over dt.
   static double shear_rate(const Eigen::Vector4d& d_eps, double dt) {
     if (!(dt > 0.0)) return 0.0;
-    const double centre = 0.5 * (d_eps[0] + d_eps[1]);
-    const double radius = std::hypot(0.5 * (d_eps[0] - d_eps[1]), d_eps[3]);
-    return (std::max(centre + radius, d_eps[2]) - std::min(centre - radius, d_eps[2])) / dt;
+    const PrincipalExtremes e = principal_extremes(d_eps);
+    return (e.largest - e.smallest) / dt;
   }
   // The centre of the Mohr circle of the extreme principal stresses, compression positive.
   static double pressure(const Eigen::Vector4d& sigma) {
-    const double centre = 0.5 * (sigma[0] + sigma[1]);
-    const double radius = std::hypot(0.5 * (sigma[0] - sigma[1]), sigma[3]);
-    return -0.5 * (std::max(centre + radius, sigma[2]) + std::min(centre - radius, sigma[2]));
+    const PrincipalExtremes s = principal_extremes(sigma);
+    return -0.5 * (s.largest + s.smallest);
   }
 
   static void update(const Prepared& s, Eigen::Vector4d& sigma, const Eigen::Vector4d& d_eps, double dt,
