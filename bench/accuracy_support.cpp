@@ -87,7 +87,7 @@ Row measure(const std::string& scene, const Setting& setting, const Options& opt
       for (const Body& b : parsed.bodies)
         if (b.name != post.body) other = b.name;
       const auto check = bench::box_incline_check(results, post.body, post.incline_angle, parsed.run.gravity,
-                                                  pair_friction(parsed.contact, post.body, other));
+                                                  pair_friction(parsed.contact, post.body, other), parsed.run.gravity_ramp);
       if (check.relative_error.size() != 4 || !check.relative_error.back())
         throw Error("box_incline: the run does not reach the four check times");
       row.error = 0;

@@ -102,11 +102,12 @@ postproc::SpringMassCheck spring_mass_check(const std::string& results_file, con
 }
 
 postproc::BoxInclineCheck box_incline_check(const std::string& results_file, const std::string& body,
-                                            double angle_deg, const Eigen::Vector2d& gravity, double friction) {
+                                            double angle_deg, const Eigen::Vector2d& gravity, double friction,
+                                            double gravity_ramp) {
   const BodyTrack track = track_body(results_file, body);
   std::vector<Eigen::Vector2d> displacement;
   for (const auto& c : track.centre) displacement.push_back(c - track.initial);
-  return postproc::box_incline_check(track.time, displacement, angle_deg, gravity, friction);
+  return postproc::box_incline_check(track.time, displacement, angle_deg, gravity, friction, gravity_ramp);
 }
 
 std::optional<double> json_number(const std::string& json, const std::string& key, const std::string& after) {

@@ -64,7 +64,8 @@ BodyTrack track_body(const std::string& results_file, const std::string& body);
 postproc::SpringMassCheck spring_mass_check(const std::string& results_file, const std::string& body,
                                             double amplitude, double omega);
 postproc::BoxInclineCheck box_incline_check(const std::string& results_file, const std::string& body,
-                                            double angle_deg, const Eigen::Vector2d& gravity, double friction);
+                                            double angle_deg, const Eigen::Vector2d& gravity, double friction,
+                                            double gravity_ramp);
 
 // A number stored under "key": in a JSON text, searched after `after` (a key that opens an
 // enclosing object, or empty). Empty when absent or null.

@@ -87,7 +87,7 @@ std::string short_message(const std::string& message) {
 }
 
 double box_error(const std::string& results, double friction) {
-  const auto check = bench::box_incline_check(results, "box", 30, Eigen::Vector2d(0, -10), friction);
+  const auto check = bench::box_incline_check(results, "box", 30, Eigen::Vector2d(0, -10), friction, 0.0);
   if (check.relative_error.empty() || !check.relative_error.back()) return NAN;
   return *check.relative_error.back();
 }

@@ -192,7 +192,7 @@ void validation_metrics(const Results& results, const AnalysedBody& body, Metric
   if (wants(post, "box_incline")) {
     const std::vector<Eigen::Vector2d> displacement = box_displacements(results, body, m);
     m.box = box_incline_check(results.frame_time, displacement, post.incline_angle, results.metadata.run.gravity,
-                              m.box_friction);
+                              m.box_friction, results.metadata.run.gravity_ramp);
   }
   // The shaken box against Newmark's block; results.h5 holds its positions in the ground's frame.
   if (wants(post, "newmark_block")) {

@@ -24,7 +24,8 @@ SpringMassCheck spring_mass_check(const std::vector<double>& time, const std::ve
 }
 
 BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::vector<Eigen::Vector2d>& displacement,
-                                  double angle_deg, const Eigen::Vector2d& gravity, double friction) {
+                                  double angle_deg, const Eigen::Vector2d& gravity, double friction,
+                                  double gravity_ramp) {
   BoxInclineCheck check;
   const double a = angle_deg * M_PI / 180.0;
   const double g = gravity.norm();
@@ -37,13 +38,13 @@ BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::ve
   check.time = time;
   for (std::size_t k = 0; k < time.size(); ++k) {
     check.along_slope.push_back(displacement[k].dot(downhill));
-    check.exact.push_back(0.5 * check.acceleration * time[k] * time[k]);
+    check.exact.push_back(ramped_slide(check.acceleration, gravity_ramp, time[k]));
     check.max_abs_displacement = std::max(check.max_abs_displacement, displacement[k].norm());
   }
   for (double t : {0.25, 0.5, 0.75, 1.0}) {
     const auto mpm = interpolate(time, check.along_slope, t);
     if (!mpm) continue;
-    const double exact = 0.5 * check.acceleration * t * t;
+    const double exact = ramped_slide(check.acceleration, gravity_ramp, t);
     check.check_times.push_back(t);
     check.mpm_at_check.push_back(*mpm);
     check.exact_at_check.push_back(exact);
@@ -51,6 +52,11 @@ BoxInclineCheck box_incline_check(const std::vector<double>& time, const std::ve
                                              : std::nullopt);
   }
   return check;
+}
+
+double ramped_slide(double acceleration, double ramp, double t) {
+  if (t >= ramp) return acceleration * (0.5 * t * t - 0.5 * ramp * t + ramp * ramp * (0.25 - 1.0 / (M_PI * M_PI)));
+  return acceleration * (0.25 * t * t + ramp * ramp * (std::cos(M_PI * t / ramp) - 1.0) / (2.0 * M_PI * M_PI));
 }
 
 std::optional<double> interpolate(const std::vector<double>& t, const std::vector<double>& y, double at) {
