@@ -62,10 +62,11 @@ std::string report_analytical(const std::string& scene, std::vector<Row> rows, c
   postproc::write_csv(
       (std::filesystem::path(options.out) / ("accuracy_" + scene + ".csv")).string(),
       {"mesh_size_m", "particles_per_cell", "cfl", "elements", "particles", "steps", "particle_updates",
-       "loop_seconds", "wall_seconds", "error", "error_at_1s", "pareto"},
+       "loop_seconds", "wall_seconds", "error", "error_at_1s", "pareto", "threads"},
       with_setting_columns(done, {column(done, [](const Row& r) { return r.particle_updates(); }),
                                   column(done, [](const Row& r) { return r.loop_seconds; }), wall, error,
-                                  column(done, [](const Row& r) { return r.error_at_1s; }), flags}));
+                                  column(done, [](const Row& r) { return r.error_at_1s; }), flags,
+                                  std::vector<double>(done.size(), options.threads)}));
 
   const Row* best = nullptr;  // the cheapest run (wall time) within 1%
   for (const Row& row : done)
@@ -128,14 +129,14 @@ std::string report_slope(std::vector<Row> rows, const Options& options) {
                       {"mesh_size_m", "particles_per_cell", "cfl", "elements", "particles", "steps", "loop_seconds",
                        "wall_seconds", "runout_m", "slip_circle_xc_m", "slip_circle_yc_m", "slip_circle_r_m",
                        "runout_difference_to_finest_m", "slip_centre_difference_to_finest_m",
-                       "slip_radius_difference_to_finest_m"},
+                       "slip_radius_difference_to_finest_m", "threads"},
                       with_setting_columns(done, {column(done, [](const Row& r) { return r.loop_seconds; }),
                        column(done, [](const Row& r) { return r.wall_seconds; }),
                        column(done, [](const Row& r) { return r.runout; }),
                        column(done, [](const Row& r) { return r.has_circle ? r.circle_x : NAN; }),
                        column(done, [](const Row& r) { return r.has_circle ? r.circle_y : NAN; }),
                        column(done, [](const Row& r) { return r.has_circle ? r.circle_r : NAN; }), runout_difference,
-                       centre_difference, radius_difference}));
+                       centre_difference, radius_difference, std::vector<double>(done.size(), options.threads)}));
   md << "The scene's settings otherwise (4 particles per cell, CFL 0.5, run to rest). Differences are to the "
         "finest run (" << general(finest.setting.size) << " m).\n\n";
   md << "| mesh size (m) | elements | particles | steps | wall (s) | runout (m) | diff. (m) | slip circle "
@@ -251,7 +252,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "talus_bench_accuracy: %s\n", error.what());
     return 1;
   }
-  md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()
+  md << "Made by `" << command << "` (" << options.threads << (options.threads == 1 ? " thread" : " threads") << " per run) on " << bench::machine_line()
      << "; the sweep took " << fixed(bench::now_seconds() - start, 0)
      << " s. With a load average above the core count other jobs shared the machine, and wall times are noisy "
         "(tens of percent).\n";

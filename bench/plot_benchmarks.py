@@ -66,7 +66,9 @@ def plot_error_against_time(rows, scene, path):
     plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_major_formatter(plain)
     ax.yaxis.set_minor_formatter(plain)
-    ax.set_xlabel("wall time per run (s, meshing + solve, on the sweep's --threads)")
+    threads = sorted({int(r["threads"]) for r in rows if "threads" in r})
+    on = f"{threads[0]} thread{'s' if threads[0] > 1 else ''}" if len(threads) == 1 else "the sweep's --threads"
+    ax.set_xlabel(f"wall time per run (s, meshing + solve, {on})")
     ax.set_ylabel("error (%)")
     ax.set_title(SCENE_TITLES.get(scene, scene), fontsize=10)
     # Legend: colour = element size, marker = particles per cell, marker size = CFL.

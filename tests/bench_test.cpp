@@ -49,7 +49,7 @@ Csv read_csv(const std::string& path) {
 
 const std::vector<std::string> kColumns = {"mesh_size_m", "particles_per_cell", "cfl", "elements", "particles",
                                            "steps", "particle_updates", "loop_seconds", "wall_seconds", "error",
-                                           "error_at_1s", "pareto"};
+                                           "error_at_1s", "pareto", "threads"};
 
 }  // namespace
 
@@ -68,6 +68,7 @@ TEST(BenchAccuracy, SmallestSettingWritesFiniteCsvRowsWithTheDocumentedColumns) 
     for (const auto& [name, value] : row) EXPECT_TRUE(std::isfinite(value)) << name;
     EXPECT_EQ(row.at("particles_per_cell"), 1);
     EXPECT_EQ(row.at("cfl"), 1);
+    EXPECT_EQ(row.at("threads"), 1);  // the default, --threads not given
     EXPECT_GT(row.at("particles"), 0);
     EXPECT_GT(row.at("steps"), 100);
     EXPECT_EQ(row.at("particle_updates"), row.at("particles") * row.at("steps"));
