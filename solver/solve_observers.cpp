@@ -61,19 +61,22 @@ Verdict RestDetector::after_step(Simulation& sim, const StepEvent& event) {
 }
 
 ProgressLine::ProgressLine(bool enabled, double end_time)
-    : enabled_(enabled && isatty(STDERR_FILENO)), end_time_(end_time) {}
+    : enabled_(enabled), terminal_(isatty(STDERR_FILENO)), end_time_(end_time) {}
 
 Verdict ProgressLine::after_step(Simulation& sim, const StepEvent& event) {
   if (!enabled_) return Verdict::go_on();
   const auto now = Clock::now();
-  if (now - last_ < std::chrono::milliseconds(250)) return Verdict::go_on();
+  // A terminal gets one line rewritten four times a second; a log or a pipe a line a minute,
+  // the first after a minute (a short run writes none).
+  if (terminal_ ? now - last_ < std::chrono::milliseconds(250) : now - last_ < std::chrono::seconds(60))
+    return Verdict::go_on();
   last_ = now;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double eta = sim.time > 0 ? elapsed * (end_time_ - sim.time) / sim.time : 0;
-  std::fprintf(stderr, "\r  step %ld  t = %.4g / %.4g s  dt = %.3e s  ETA %.0f s   ", sim.steps, sim.time, end_time_,
-               event.dt, eta);
+  std::fprintf(stderr, "%s  step %ld  t = %.4g / %.4g s  dt = %.3e s  ETA %.0f s%s", terminal_ ? "\r" : "", sim.steps,
+               sim.time, end_time_, event.dt, eta, terminal_ ? "   " : "\n");
   std::fflush(stderr);
-  shown_ = true;
+  shown_ = terminal_;
   return Verdict::go_on();
 }
 

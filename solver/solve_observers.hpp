@@ -88,7 +88,8 @@ class StepLimit : public Observer {
   long max_steps_;
 };
 
-// A progress line on stderr when it is a terminal, at most four times a second.
+// Progress on stderr: on a terminal one line rewritten at most four times a second; otherwise
+// (a log, a pipe) a line a minute.
 class ProgressLine : public Observer {
  public:
   ProgressLine(bool enabled, double end_time);
@@ -99,9 +100,10 @@ class ProgressLine : public Observer {
  private:
   using Clock = std::chrono::steady_clock;
   bool enabled_;
+  bool terminal_;  // stderr is a terminal: the line is rewritten in place
   double end_time_;
-  bool shown_ = false;
-  Clock::time_point start_ = Clock::now(), last_{};
+  bool shown_ = false;  // a terminal line is open (done() ends it)
+  Clock::time_point start_ = Clock::now(), last_ = Clock::now();
 };
 
 // Writes OUT/checkpoint.h5 at multiples of `interval` simulated seconds (0: never).
