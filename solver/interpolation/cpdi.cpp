@@ -32,7 +32,16 @@ void initial_domains(const Mesh& mesh, Particles& P) {
     // The seeding's middle particle of four (seeding.cpp): at the centroid, a quarter of the area.
     const bool middle = (w - Vec3::Constant(1.0 / 3)).cwiseAbs().maxCoeff() < 1e-6 &&
                         std::abs(P.volume[p] / mesh.area[e] - 0.25) < 1e-6;
-    similar_domain(mesh, e, P.x[p], P.volume[p], middle, &P.domain[3 * p]);
+    // Kept inside the particle's element: the similar triangle scaled by s about a point of
+    // barycentric weights w has its corners at w + s (e_k - 1/3), inside while s <= 3 min(w).
+    // The patterns of 3, 6 and 10 per cell put particles a third of a sub-triangle's height
+    // from the element's edges, where a domain of the particle's whole volume would reach
+    // across them: into a support under a body, or from a heavy body into a light one
+    // (docs/shape-functions.md, "CPDI's initial domains"). Four per cell tile the element.
+    double volume = P.volume[p];
+    const double fits = 3 * w.minCoeff();
+    if (!middle && fits * fits * mesh.area[e] < volume * (1 - 1e-9)) volume = fits * fits * mesh.area[e];
+    similar_domain(mesh, e, P.x[p], volume, middle, &P.domain[3 * p]);
   }
 }
 
