@@ -2,6 +2,7 @@
 // particle-space definition with explicit matrices, momentum kept by every transfer, APIC
 // carrying an affine velocity field exactly, and the isolated-particle rule.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -245,4 +246,12 @@ TEST(Transfer, IsStoredInTheModelAndFingerprinted) {
   write_model(dir.file("mixed.h5"), other);
   EXPECT_EQ(read_model(dir.file("mixed.h5")).run.full_cell_fill, 0.7);
   EXPECT_EQ(read.run.full_cell_fill, 0.0);
+  // A file without xpic_order was written when the order's default was 2; it reads as 2, not as
+  // today's default (5, since 2026-11-28).
+  const hid_t file = H5Fopen(dir.file("mixed.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_GE(H5Adelete_by_name(file, "settings/run", "xpic_order", H5P_DEFAULT), 0);
+  H5Fclose(file);
+  EXPECT_EQ(read_model(dir.file("mixed.h5")).run.xpic_order, 2);
+  EXPECT_NE(RunSettings{}.xpic_order, 2);
 }

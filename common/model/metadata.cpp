@@ -252,6 +252,7 @@ void read_metadata(const h5::File& file, Model& model) {
     read_setting(file, "settings/run", name, value);
   });
   if (!has_transfer) run.transfer = run.pic_fraction > 0 ? Transfer::PicBlend : Transfer::Flip;
+  if (!h5::has_attribute(file, "settings/run", "xpic_order")) run.xpic_order = 2;  // the default then
   if (const std::string problem = run_settings_problem(run); !problem.empty())
     throw Error(located(file.path(), "", problem));
   if (const std::string problem = output_interval_problem(run); !problem.empty())

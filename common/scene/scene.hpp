@@ -178,7 +178,7 @@ struct RunSettings {
   // step. A few percent damp the particle velocities that the grid cannot see (FLIP's null
   // space) and that otherwise never come to rest. Ignored by the other transfers.
   double pic_fraction = 0;
-  int xpic_order = 2;           // Xpic: m >= 1; m = 1 is PIC, larger m approaches FLIP less its noise
+  int xpic_order = 5;           // Xpic: m >= 1; m = 1 is PIC, larger m approaches FLIP less its noise
   // The internal force's integration (docs/transfer.md, "Mixed integration"): 0 integrates
   // over the material points only (the seed's A.8, scene key integration = "material_points");
   // a share in (0, 1] (integration = "mixed", key full_cell_fill) integrates a cell with its own
