@@ -13,7 +13,7 @@ struct PhaseTimes;  // simulation.hpp
 
 struct SolveOptions {
   std::string out_dir;   // results.h5 and results.xdmf go here
-  bool progress = true;  // a progress line when stderr is a terminal
+  bool progress = true;  // progress on stderr: a rewritten line on a terminal, else a line a minute
   int threads = 0;       // 0: chosen from the particle count and the cores (choose_threads, parallel.hpp)
   // Simulated seconds between checkpoints (OUT/checkpoint.h5, see checkpoint.hpp); 0: none,
   // except the one written when SIGINT or SIGTERM stops the run.
