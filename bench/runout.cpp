@@ -423,7 +423,7 @@ int main(int argc, char** argv) {
     md << "# Runout benchmark\n\n";
     const double start = bench::now_seconds();
     for (const auto& run : parts) run();
-    md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line()
+    md << "Made by `" << command << "` (" << options.threads << (options.threads == 1 ? " thread" : " threads") << " per run) on " << bench::machine_line()
        << " in " << fixed(bench::now_seconds() - start, 0) << " s.\n";
     const std::string md_path = (std::filesystem::path(options.out) / "runout.md").string();
     postproc::write_file_atomically(md_path, md.str());

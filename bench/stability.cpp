@@ -282,7 +282,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "talus_bench_stability: %s\n", error.what());
     return 1;
   }
-  md << "Made by `" << command << "` (" << options.threads << " thread per run) on " << bench::machine_line() << "; took "
+  md << "Made by `" << command << "` (" << options.threads << (options.threads == 1 ? " thread" : " threads") << " per run) on " << bench::machine_line() << "; took "
      << fixed(bench::now_seconds() - start, 0) << " s.\n";
   const std::string md_path = (std::filesystem::path(options.out) / "stability.md").string();
   postproc::write_file_atomically(md_path, md.str());
