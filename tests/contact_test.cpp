@@ -12,6 +12,7 @@
 
 #include "common/h5.hpp"
 #include "common/model/model.hpp"
+#include "postproc/validation.hpp"
 #include "solver/io/io.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
@@ -117,11 +118,10 @@ std::size_t frame_at(const BoxRun& run, double t) {
 }
 
 // A rigid box sliding from rest under Coulomb friction, with the slope's acceleration a:
-// x = 0.5 a t^2. Under gravity ramped as g (1 - cos(pi t / T)) / 2 over T, for t > T, the
-// motion of a sudden start delayed by T / 2 plus a T^2 term: a T^2 (1/8 - 1/pi^2).
-double coulomb_slide(double a, double t, double ramp) {
-  return 0.5 * a * (t - ramp / 2) * (t - ramp / 2) + a * ramp * ramp * (0.125 - 1 / (M_PI * M_PI));
-}
+// x = 0.5 a t^2, and under gravity ramped as g (1 - cos(pi t / T)) / 2 over T the closed form of
+// talus post's box check (postproc::ramped_slide, itself checked against the acceleration
+// integrated step by step in postproc_validation_test.cpp), before the ramp's end as after it.
+double coulomb_slide(double a, double t, double ramp) { return talus::postproc::ramped_slide(a, ramp, t); }
 
 void expect_slide_follows_coulomb(double mu, double tolerance, double ramp = 0) {
   std::string overrides = "--set contact.friction=" + std::to_string(mu);
