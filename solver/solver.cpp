@@ -139,6 +139,8 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
       const BlowUpBudget budget = BlowUpBudget::starting_from(sim, initial);
       loop.budget = budget.budget();
       loop.budget_limit = budget.limit();
+      loop.budget_supply = budget.supply();
+      loop.start_potential = budget.start_potential();
       loop.next_output = run.output_interval;
       if (writer) writer->record_history(sim, initial);
       FrameWriter(writer ? &*writer : nullptr, loop, run.output_interval, 0, rank_frames ? &*rank_frames : nullptr)
@@ -161,7 +163,7 @@ SolveSummary run_solve(const Model& model, Model* owned, const SolveOptions& opt
   // The observers, in the order they see each step.
   const double tolerance = 1e-9 * run.end_time;
   ParticleSorter sorter;
-  BlowUpBudget budget(loop.budget, loop.budget_limit);
+  BlowUpBudget budget(loop.budget, loop.budget_limit, loop.budget_supply, loop.start_potential);
   ResultsWriter* results = writer ? &*writer : nullptr;
   HistoryRecorder history(results, run.history_interval);
   RestDetector rest(loop, run.rest_ratio, run.rest_window);

@@ -159,7 +159,9 @@ TEST(Cpdi, InitialDomainsStayInsideTheirElementForEverySeedingPattern) {
       EXPECT_NEAR(domains / elements, 1, 1e-12);
     } else {  // 3/4 of the element for 3 per cell (each domain a quarter of it)
       EXPECT_LT(domains / elements, 1 - 1e-3);
-      if (per_cell == 3) EXPECT_NEAR(domains / elements, 0.75, 1e-12);
+      if (per_cell == 3) {
+        EXPECT_NEAR(domains / elements, 0.75, 1e-12);
+      }
     }
   }
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -147,4 +148,27 @@ TEST(SpringMass, AtSmallAmplitudeFollowsTheOscillatorWithTheSpringsMassAndTheBlo
   EXPECT_LT(worst, 1e-3 * ideal);
   // The corrections are what the ideal oscillator misses: without them the error is larger.
   EXPECT_GT(worst_ideal, 2e-3 * ideal);
+}
+
+// A block 1000 times stiffer than the spring (5e8 Pa) at 0.025 m: its particles cross into the
+// spring's top elements, whose nodes carry the spring's 0.05 kg/m^3, and at CFL 0.5 the step is
+// unstable there. The kinetic energy stays far inside the budget (51 J/m: the block falling to
+// the floor) while the stress stores tens of J/m where gravity has done 0.06 J/m of work; the
+// run must say so instead of writing a block that settles 30 % too far (the mass at 2.6 mm
+// against the exact 2 mm: 166 % of the amplitude off before the blow-up test counted the strain
+// energy). At CFL 0.25 the same scene is stable and within 2.5 % (1.8 % measured).
+TEST(SpringMass, AStiffBlockUnstableInTheSpringsElementsIsReportedAsABlowUp) {
+  ScratchDir dir("spring-mass-stiff");
+  const std::string common = "run " + source_path("geometries/spring_mass.toml") + " -q --threads 2 --set " +
+                             "mesh.size=0.025 --set materials.block.youngs_modulus=5e8";
+  const auto unstable = run_talus(common + " --out " + dir.path().string());
+  EXPECT_EQ(unstable.status, 1);
+  EXPECT_NE(unstable.output.find("numerical blow-up"), std::string::npos) << unstable.output;
+  EXPECT_NE(unstable.output.find("kinetic and elastic strain energy"), std::string::npos) << unstable.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("metrics.json")));
+
+  const SpringRun stable = run_spring_mass("--threads 2 --set mesh.size=0.025 --set materials.block.youngs_modulus=5e8 "
+                                           "--set run.cfl=0.25");
+  EXPECT_LT(stable.worst, 0.025e-3);
+  EXPECT_GT(stable.deepest, 1.9e-3);
 }

@@ -12,6 +12,7 @@
 // checkpoint is either the previous one or the new one, never half of either.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,8 @@ struct LoopState {
   double rest_since = -1;      // s, start of the current spell below the rest ratio (-1: none)
   double budget = 0;           // J/m, the most energy the run can have (blow-up test)
   double budget_limit = 0;     // J/m, the threshold derived from it
+  double budget_supply = std::numeric_limits<double>::infinity();  // J/m, the initial sources of the second test (infinite: none kept)
+  double start_potential = 0;      // J/m, the potential energy at the start (the second test)
 };
 
 // Fingerprints of the model a checkpoint belongs to, one per section (mesh, boundary

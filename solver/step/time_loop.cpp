@@ -65,14 +65,14 @@ Verdict ParticleSorter::after_step(Simulation& sim, const StepEvent&) {
   return Verdict::go_on();
 }
 
-double energy_budget(const Simulation& sim, const Energies& start) {
+EnergySources energy_sources(const Simulation& sim, const Energies& start) {
   const Vec2& g = sim.config.gravity;
   double lowest = kNever;
   const Vec2 down = g.norm() > 0 ? Vec2(g.normalized()) : Vec2(0, -1);
   for (const auto& x : sim.config.mesh.nodes) lowest = std::min(lowest, -down.dot(x));
-  double release = 0;
+  double fall = 0, release = 0;
   const Particles& P = sim.particles;
-  for (std::size_t p = 0; p < P.moving_count; ++p) release += P.m[p] * g.norm() * (-down.dot(P.x[p]) - lowest);
+  for (std::size_t p = 0; p < P.moving_count; ++p) fall += P.m[p] * g.norm() * (-down.dot(P.x[p]) - lowest);
   // Surface loads: at most their full force over the width of the mesh each.
   if (!P.load.empty()) {
     Eigen::AlignedBox<double, 2> box;
@@ -93,26 +93,51 @@ double energy_budget(const Simulation& sim, const Energies& start) {
     for (int k = 0; k <= 1000; ++k) peak = std::max(peak, m.ground_velocity(m.start + k * m.duration() / 1000).norm());
     for (std::size_t p = 0; p < P.moving_count; ++p) release += 50 * P.m[p] * peak * peak;
   }
-  if (sim.domain.distributed()) release = mpi::sum_in_rank_order(release);
-  return start.kinetic + start.strain + release;
+  if (sim.domain.distributed()) {
+    double both[2] = {fall, release};
+    mpi::sum_in_rank_order(both, 2);
+    fall = both[0], release = both[1];
+  }
+  return {start.kinetic + start.strain + release, fall};
+}
+
+double energy_budget(const Simulation& sim, const Energies& start) {
+  const EnergySources sources = energy_sources(sim, start);
+  return sources.initial + sources.gravity;
 }
 
 BlowUpBudget BlowUpBudget::starting_from(const Simulation& sim, const Energies& start) {
-  const double budget = energy_budget(sim, start);
+  const EnergySources sources = energy_sources(sim, start);
+  const double budget = sources.initial + sources.gravity;
   // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
-  return BlowUpBudget(budget, 2 * budget + 1e-9 * std::abs(start.potential) + 1e-12);
+  return BlowUpBudget(budget, 2 * budget + 1e-9 * std::abs(start.potential) + 1e-12, sources.initial,
+                      start.potential);
+}
+
+double BlowUpBudget::drawn_limit(const Energies& energy) const {
+  return 4 * (supply_ + std::max(0.0, start_potential_ - energy.potential)) + 1e-3 * budget_;
 }
 
 bool BlowUpBudget::exceeded_by(const Energies& energy) const {
-  return !std::isfinite(energy.kinetic + energy.grid_kinetic) || std::max(energy.kinetic, energy.grid_kinetic) > limit_;
+  const double kinetic = std::max(energy.kinetic, energy.grid_kinetic);
+  if (!std::isfinite(energy.kinetic + energy.grid_kinetic + energy.strain) || kinetic > limit_) return true;
+  return kinetic + energy.strain > drawn_limit(energy);
 }
 
 Verdict BlowUpBudget::after_step(Simulation& sim, const StepEvent& event) {
   if (!event.energies_due || !exceeded_by(event.energies())) return Verdict::go_on();
+  const Energies& energy = event.energies();
+  const double kinetic = std::max(energy.kinetic, energy.grid_kinetic);
   std::ostringstream message;
-  message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: kinetic energy "
-          << event.energies().kinetic << " J/m exceeds the " << budget_
-          << " J/m that gravity and the initial state can supply (try a smaller run.cfl)";
+  message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: ";
+  if (!std::isfinite(energy.kinetic + energy.grid_kinetic + energy.strain) || kinetic > limit_)
+    message << "kinetic energy " << energy.kinetic << " J/m exceeds the " << budget_
+            << " J/m that gravity and the initial state can supply";
+  else
+    message << "kinetic and elastic strain energy " << kinetic + energy.strain << " J/m exceed 4 times the "
+            << supply_ + std::max(0.0, start_potential_ - energy.potential)
+            << " J/m that the initial state and gravity's work so far supply";
+  message << " (try a smaller run.cfl)";
   return Verdict::fail(message.str());
 }
 

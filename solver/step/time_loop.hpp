@@ -88,25 +88,45 @@ class ParticleSorter : public Observer {
   long interval_;
 };
 
-// The most energy the run can have without a numerical source: the kinetic and strain energy
-// at the start plus everything gravity can release by bringing each particle to the lowest node.
+// What a run can draw on besides numerical sources, J/m. `initial`: the kinetic and strain energy
+// at the start plus bounds on the work of surface loads and of a moving ground; `gravity`: what
+// gravity can release by bringing each particle to the lowest node.
+struct EnergySources {
+  double initial = 0;
+  double gravity = 0;
+};
+EnergySources energy_sources(const Simulation& sim, const Energies& start);
+// Their sum: the most energy the run can have.
 double energy_budget(const Simulation& sim, const Energies& start);
 
-// Fails the run when the kinetic energy (grid or particle) is non-finite or beyond twice the
-// budget: a numerical blow-up. Checks on every step whose energies are due.
+// Fails the run on a numerical blow-up, checked on every step whose energies are due:
+// - the kinetic energy (grid or particle) is non-finite or beyond twice the budget;
+// - the kinetic plus elastic strain energy is beyond 4 times what the run has drawn so far: the
+//   initial sources and the work gravity has done since the start (the fall of the potential
+//   energy -sum m_p g . x_p, with the full gravity), plus a thousandth of the budget. An
+//   instability that stores its energy in the stress (a stiff body's particles in a light
+//   body's elements, say) passes the first test: a block 1 m up a light spring has a budget of
+//   51 J/m while the spring and block settle with 0.07 J/m.
 class BlowUpBudget : public Observer {
  public:
   BlowUpBudget() = default;
-  BlowUpBudget(double budget, double limit) : budget_(budget), limit_(limit) {}
+  // `supply` and `start_potential` (the initial sources and the potential energy at the start):
+  // infinite when a checkpoint written before the second test does not hold them.
+  BlowUpBudget(double budget, double limit, double supply = kNever, double start_potential = 0)
+      : budget_(budget), limit_(limit), supply_(supply), start_potential_(start_potential) {}
   // Budget and limit of a run starting from sim's current state.
   static BlowUpBudget starting_from(const Simulation& sim, const Energies& start);
   Verdict after_step(Simulation& sim, const StepEvent& event) override;
   double budget() const { return budget_; }
   double limit() const { return limit_; }
+  double supply() const { return supply_; }
+  double start_potential() const { return start_potential_; }
+  // The second test's threshold at the state `energy`.
+  double drawn_limit(const Energies& energy) const;
   bool exceeded_by(const Energies& energy) const;
 
  private:
-  double budget_ = kNever, limit_ = kNever;
+  double budget_ = kNever, limit_ = kNever, supply_ = kNever, start_potential_ = 0;
 };
 
 }  // namespace talus::solver
