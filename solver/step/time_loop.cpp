@@ -101,14 +101,9 @@ EnergySources energy_sources(const Simulation& sim, const Energies& start) {
   return {start.kinetic + start.strain + release, fall};
 }
 
-double energy_budget(const Simulation& sim, const Energies& start) {
-  const EnergySources sources = energy_sources(sim, start);
-  return sources.initial + sources.gravity;
-}
-
 BlowUpBudget BlowUpBudget::starting_from(const Simulation& sim, const Energies& start) {
   const EnergySources sources = energy_sources(sim, start);
-  const double budget = sources.initial + sources.gravity;
+  const double budget = sources.initial + sources.gravity;  // the most energy the run can have
   // Round-off in the budget's own terms, so a body at rest under no load is no blow-up.
   return BlowUpBudget(budget, 2 * budget + 1e-9 * std::abs(start.potential) + 1e-12, sources.initial,
                       start.potential);

@@ -96,8 +96,6 @@ struct EnergySources {
   double gravity = 0;
 };
 EnergySources energy_sources(const Simulation& sim, const Energies& start);
-// Their sum: the most energy the run can have.
-double energy_budget(const Simulation& sim, const Energies& start);
 
 // Fails the run on a numerical blow-up, checked on every step whose energies are due:
 // - the kinetic energy (grid or particle) is non-finite or beyond twice the budget;
