@@ -117,11 +117,11 @@ std::size_t frame_at(const BoxRun& run, double t) {
   return run.time.size() - 1;
 }
 
-// A rigid box sliding from rest under Coulomb friction, with the slope's acceleration a:
-// x = 0.5 a t^2, and under gravity ramped as g (1 - cos(pi t / T)) / 2 over T the closed form of
-// talus post's box check (postproc::ramped_slide, itself checked against the acceleration
-// integrated step by step in postproc_validation_test.cpp), before the ramp's end as after it.
-double coulomb_slide(double a, double t, double ramp) { return talus::postproc::ramped_slide(a, ramp, t); }
+// A rigid box sliding from rest under Coulomb friction with the slope's acceleration a goes
+// x = a t^2 / 2; under gravity ramped as g (1 - cos(pi t / T)) / 2 over T, talus post's closed form
+// postproc::ramped_slide(a, T, t) (checked against the acceleration integrated step by step in
+// postproc_validation_test.cpp), before the ramp's end as after it.
+using talus::postproc::ramped_slide;
 
 void expect_slide_follows_coulomb(double mu, double tolerance, double ramp = 0) {
   std::string overrides = "--set contact.friction=" + std::to_string(mu);
@@ -131,7 +131,7 @@ void expect_slide_follows_coulomb(double mu, double tolerance, double ramp = 0) 
   ASSERT_FALSE(run.box_position[0].empty());
   const double a = kGravity * (std::sin(kAngle) - mu * std::cos(kAngle));
   for (double t : {0.25, 0.5, 0.75, 1.0}) {
-    const double exact = coulomb_slide(a, t, ramp);
+    const double exact = ramped_slide(a, ramp, t);
     const double mpm = run.mean_slide[frame_at(run, t)];
     const double error = std::abs(mpm - exact) / exact;
     std::printf("  mu %.1f  ramp %.2f s  t %.2f s  MPM %.5f m  exact %.5f m  relative error %.3f%%\n", mu, ramp, t,
@@ -238,7 +238,7 @@ TEST(BoxOnIncline, SlidesUnderTheSameRampWhenFrictionIsBelowTheSlope) {
   const double mu = 0.5, ramp = 0.05, t = 0.5;
   const BoxRun& run = box_run("--set contact.friction=0.5 --set run.gravity_ramp=0.05 --set run.end_time=0.5");
   const double a = kGravity * (std::sin(kAngle) - mu * std::cos(kAngle));
-  const double exact = coulomb_slide(a, t, ramp);
+  const double exact = ramped_slide(a, ramp, t);
   const double mpm = run.mean_slide[frame_at(run, t)];
   std::printf("  mu 0.5, ramped  t %.2f s  MPM %.5f m  exact %.5f m\n", t, mpm, exact);
   EXPECT_NEAR(mpm, exact, 0.1 * exact);
@@ -556,7 +556,7 @@ TEST(BondedPairs, LayersHangAsOneBarBesideABlockSlidingByCoulomb) {
   ASSERT_EQ(run.block.size(), times.size());
   for (const auto& [t, x] : run.block) {
     const double at = std::min(t, stop);
-    const double exact = kBlockSpeed * at - coulomb_slide(kBlockMu * kBondG, at, kBondRamp);
+    const double exact = kBlockSpeed * at - ramped_slide(kBlockMu * kBondG, kBondRamp, at);
     std::printf("  block t %.2f s: MPM %.5f m, Coulomb %.5f m (%.2f%%)\n", t, x, exact, 100 * (x - exact) / exact);
     EXPECT_NEAR(x, exact, 0.03 * exact) << "t " << t;
   }
