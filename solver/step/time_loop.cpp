@@ -113,23 +113,27 @@ double BlowUpBudget::drawn_limit(const Energies& energy) const {
   return 4 * (supply_ + std::max(0.0, start_potential_ - energy.potential)) + 1e-3 * budget_;
 }
 
+bool BlowUpBudget::beyond_budget(const Energies& energy) const {
+  return !std::isfinite(energy.kinetic + energy.grid_kinetic + energy.strain) ||
+         std::max(energy.kinetic, energy.grid_kinetic) > limit_;
+}
+
 bool BlowUpBudget::exceeded_by(const Energies& energy) const {
-  const double kinetic = std::max(energy.kinetic, energy.grid_kinetic);
-  if (!std::isfinite(energy.kinetic + energy.grid_kinetic + energy.strain) || kinetic > limit_) return true;
-  return kinetic + energy.strain > drawn_limit(energy);
+  return beyond_budget(energy) ||
+         std::max(energy.kinetic, energy.grid_kinetic) + energy.strain > drawn_limit(energy);
 }
 
 Verdict BlowUpBudget::after_step(Simulation& sim, const StepEvent& event) {
   if (!event.energies_due || !exceeded_by(event.energies())) return Verdict::go_on();
   const Energies& energy = event.energies();
-  const double kinetic = std::max(energy.kinetic, energy.grid_kinetic);
   std::ostringstream message;
   message << "numerical blow-up at step " << sim.steps << ", t = " << sim.time << " s: ";
-  if (!std::isfinite(energy.kinetic + energy.grid_kinetic + energy.strain) || kinetic > limit_)
+  if (beyond_budget(energy))
     message << "kinetic energy " << energy.kinetic << " J/m exceeds the " << budget_
             << " J/m that gravity and the initial state can supply";
   else
-    message << "kinetic and elastic strain energy " << kinetic + energy.strain << " J/m exceed 4 times the "
+    message << "kinetic and elastic strain energy " << std::max(energy.kinetic, energy.grid_kinetic) + energy.strain
+            << " J/m exceed 4 times the "
             << supply_ + std::max(0.0, start_potential_ - energy.potential)
             << " J/m that the initial state and gravity's work so far supply";
   message << " (try a smaller run.cfl)";

@@ -124,6 +124,9 @@ class BlowUpBudget : public Observer {
   bool exceeded_by(const Energies& energy) const;
 
  private:
+  // The first test: a non-finite energy, or the kinetic energy beyond the limit.
+  bool beyond_budget(const Energies& energy) const;
+
   double budget_ = kNever, limit_ = kNever, supply_ = kNever, start_potential_ = 0;
 };
 
